@@ -1,0 +1,91 @@
+//! One function per subcommand.
+
+use crate::Failure;
+use crate::args::Command;
+use anyhow::anyhow;
+use rockfall_scenario::Summary;
+use std::path::Path;
+
+/// Runs a subcommand.
+pub fn dispatch(command: Command) -> Result<(), Failure> {
+    match command {
+        Command::Check { input } => check(&input),
+        Command::Site { name, out, list } => match (name, out) {
+            (Some(name), Some(out)) if !list => site(&name, &out),
+            _ => {
+                list_sites();
+                Ok(())
+            }
+        },
+        Command::Run { input, .. } => {
+            // Validate the input now, so that bad input is reported as such (exit 2).
+            load_checked(&input)?;
+            Err(not_yet("run", "the simulation engines"))
+        }
+        Command::Demo { .. } => Err(not_yet("demo", "the lumped engine")),
+        Command::ImpactLab { .. } => Err(not_yet("impact-lab", "the rigid engine")),
+        Command::Validate { .. } => Err(not_yet("validate", "the validation cases")),
+    }
+}
+
+fn not_yet(command: &str, what: &str) -> Failure {
+    Failure::Internal(anyhow!(
+        "`rockfall {command}` is not yet available: {what} are still being built \
+         (`rockfall check` and `rockfall site` work)"
+    ))
+}
+
+/// Loads an input and builds its forest; every problem is bad input.
+fn load_checked(
+    input: &Path,
+) -> Result<(rockfall_scenario::Scenario, rockfall_forest::Forest), Failure> {
+    let scenario = rockfall_io::load(input)?;
+    let forest = scenario
+        .build_forest()
+        .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", forest_source(&scenario, input))))?;
+    Ok((scenario, forest))
+}
+
+fn forest_source(s: &rockfall_scenario::Scenario, input: &Path) -> String {
+    s.source_of("forest.trees")
+        .or_else(|| s.source_of("nrtrees"))
+        .unwrap_or(input)
+        .display()
+        .to_string()
+}
+
+fn check(input: &Path) -> Result<(), Failure> {
+    let (scenario, forest) = load_checked(input)?;
+    println!("{}: ok", input.display());
+    print!("{}", Summary::new(&scenario, &forest));
+    Ok(())
+}
+
+fn site(name: &str, out: &Path) -> Result<(), Failure> {
+    let scenario = rockfall_sites::build(name).map_err(|e| match e {
+        rockfall_sites::SiteError::Unknown(_) => Failure::BadInput(e.into()),
+        other => Failure::Internal(other.into()),
+    })?;
+    let files = rockfall_io::write::write_scenario_dir(&scenario, out)
+        .map_err(|e| Failure::Internal(e.into()))?;
+    println!(
+        "wrote site `{name}` to {} ({} files):",
+        out.display(),
+        files.len()
+    );
+    for f in &files {
+        println!("  {}", f.display());
+    }
+    println!(
+        "check it with `rockfall check {}`",
+        out.join("scenario.toml").display()
+    );
+    Ok(())
+}
+
+fn list_sites() {
+    println!("built-in sites:");
+    for (name, what) in rockfall_sites::SITES {
+        println!("  {name:<16} {what}");
+    }
+}

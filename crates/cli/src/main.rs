@@ -1,0 +1,40 @@
+//! The `rockfall` binary: parses the command line, dispatches, maps failures to exit codes
+//! (0 success, 2 bad input, 1 internal failure). All work happens in the library crates.
+
+mod args;
+mod commands;
+
+use clap::Parser;
+use std::process::ExitCode;
+
+/// A failed command: bad input (exit 2) or anything else (exit 1).
+pub enum Failure {
+    /// The user's input is at fault; the message names the file, cell or key.
+    BadInput(anyhow::Error),
+    /// Our fault, or a feature not yet available.
+    Internal(anyhow::Error),
+}
+
+impl From<rockfall_io::InputError> for Failure {
+    fn from(e: rockfall_io::InputError) -> Self {
+        Failure::BadInput(e.into())
+    }
+}
+
+fn main() -> ExitCode {
+    std::panic::set_hook(Box::new(|info| {
+        eprintln!("rockfall: internal error (a bug; please report it): {info}");
+    }));
+    let cli = args::Cli::parse();
+    match commands::dispatch(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::BadInput(e)) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Internal(e)) => {
+            eprintln!("rockfall: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}

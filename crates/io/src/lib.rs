@@ -1,0 +1,66 @@
+//! Reading and writing rockfall inputs.
+//!
+//! - [`load`]: a Rockyfor3D input folder ([`rockyfor`]) or a scenario file
+//!   ([`scenario_file`], TOML) → a validated
+//!   [`rockfall_scenario::Scenario`].
+//! - [`trees`]: tree lists (CSV and the Rockyfor3D tree file).
+//! - [`write`]: a scenario written back as input files (rasters, tree list, scenario file,
+//!   and the Rockyfor3D file set where the scenario fits it) — how `rockfall site` exports
+//!   the built-in sites.
+//!
+//! Every error is an [`InputError`] naming the file and, where it applies, the line, the cell
+//! or the key. Nothing here panics on bad input.
+
+mod error;
+pub mod rockyfor;
+pub mod scenario_file;
+mod schema;
+pub mod trees;
+pub mod write;
+
+pub use error::InputError;
+
+use rockfall_scenario::{Scenario, ScenarioError};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Reads an input: a folder is a Rockyfor3D input folder, a `.toml` file a scenario file.
+pub fn load(path: &Path) -> Result<Scenario, InputError> {
+    if path.is_dir() {
+        return rockyfor::read_folder(path);
+    }
+    if !path.exists() {
+        return Err(InputError::Missing {
+            path: path.to_path_buf(),
+            what: "input (a scenario .toml file or a Rockyfor3D input folder)".into(),
+        });
+    }
+    match path.extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("toml") => scenario_file::read_scenario(path),
+        _ => Err(InputError::invalid(
+            path,
+            "not a scenario file (*.toml) nor a Rockyfor3D input folder",
+        )),
+    }
+}
+
+/// Turns a scenario error into an input error naming the file the offending parameter came
+/// from (or `fallback`, the scenario file or folder).
+pub(crate) fn scenario_error(
+    e: ScenarioError,
+    sources: &BTreeMap<String, PathBuf>,
+    fallback: &Path,
+) -> InputError {
+    let path = e
+        .parameter()
+        .and_then(|p| sources.get(p))
+        .map(PathBuf::as_path)
+        .unwrap_or(fallback);
+    InputError::invalid(path, e.to_string())
+}
+
+/// Writes a text file atomically.
+pub(crate) fn write_text(path: &Path, text: &str) -> Result<(), InputError> {
+    rockfall_raster::atomic::write_bytes_atomic(path, text.as_bytes())
+        .map_err(|(p, e)| InputError::io(&p, e))
+}

@@ -1,0 +1,282 @@
+//! Rockyfor3D input folders.
+//!
+//! Required (ESRI ASCII grids on the DEM's grid): `dem.asc`; `rockdensity.asc` (kg/m³;
+//! cells above 0 are source cells); `d1.asc`, `d2.asc`, `d3.asc` (block dimensions, m); `blshape.asc`
+//! (1 rectangular, 2 ellipsoidal, 3 spherical, 4 disc); `rg70.asc`, `rg20.asc`, `rg10.asc`
+//! (obstacle heights, m); `soiltype.asc` (0–7). Optional forest: `nrtrees.asc` (stems/ha),
+//! `dbhmean.asc`, `dbhstd.asc` (cm), `conif_percent.asc` (all four together), or a tree file
+//! `treefile.txt`. Optional nets: `net_number.asc`, `net_energy.asc` (kJ), `net_height.asc`
+//! (m), all three together. File names match in any case; `.prj` sidecars are read with their
+//! grids; other files are ignored with a note.
+
+use crate::{InputError, scenario_error, trees};
+use rockfall_forest::StandOptions;
+use rockfall_raster::{Field, Grid, ascii_grid};
+use rockfall_scenario::{
+    ContactSettings, Engine, ForestSpec, LumpedSettings, Nets, OutputSettings, Release, RockShape,
+    RockSpec, Scenario, SimulationSettings, Stands,
+};
+use rockfall_terrain::{Dem, SurfaceMap, Terrain};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+const REQUIRED: [(&str, &str); 10] = [
+    ("dem", "the digital elevation model (m)"),
+    (
+        "rockdensity",
+        "rock density per cell (kg/m³; cells > 0 are source cells)",
+    ),
+    ("d1", "block dimension d1 (m)"),
+    ("d2", "block dimension d2 (m)"),
+    ("d3", "block dimension d3 (m)"),
+    ("blshape", "block shape codes (1–4)"),
+    ("rg70", "obstacle height of the 70 % cover class (m)"),
+    ("rg20", "obstacle height of the 20 % cover class (m)"),
+    ("rg10", "obstacle height of the 10 % cover class (m)"),
+    ("soiltype", "soil type classes (0–7)"),
+];
+const STANDS: [&str; 4] = ["nrtrees", "dbhmean", "dbhstd", "conif_percent"];
+const NETS: [&str; 3] = ["net_number", "net_energy", "net_height"];
+const TREEFILE: &str = "treefile.txt";
+
+/// Reads a Rockyfor3D input folder into a scenario (lumped engine, seed 1, defaults of
+/// [`SimulationSettings`]); validates it completely.
+pub fn read_folder(dir: &Path) -> Result<Scenario, InputError> {
+    if !dir.is_dir() {
+        return Err(InputError::Missing {
+            path: dir.to_path_buf(),
+            what: "input folder".into(),
+        });
+    }
+    let files = list_files(dir)?;
+    let mut used: Vec<String> = Vec::new();
+    let mut sources = BTreeMap::new();
+    let mut notes = Vec::new();
+
+    let mut grids = Vec::with_capacity(REQUIRED.len());
+    for (name, what) in REQUIRED {
+        let key = format!("{name}.asc");
+        let Some(path) = files.get(&key) else {
+            return Err(InputError::Missing {
+                path: dir.join(key),
+                what: what.into(),
+            });
+        };
+        used.push(key);
+        grids.push((path.clone(), ascii_grid::read(path)?));
+    }
+    let [
+        dem,
+        density,
+        d1,
+        d2,
+        d3,
+        blshape,
+        rg70,
+        rg20,
+        rg10,
+        soiltype,
+    ]: [(PathBuf, Grid<f64>); 10] = grids
+        .try_into()
+        .map_err(|_| InputError::invalid(dir, "internal: required grid count"))?;
+    // The DEM first: every other grid must sit on it.
+    let dem_path = dem.0.clone();
+    sources.insert("dem".into(), dem.0);
+    let mut field = |param: &str, (path, grid): (PathBuf, Grid<f64>)| {
+        sources.insert(param.to_string(), path);
+        Field::Grid(grid)
+    };
+    let dem = Dem::new(dem.1).map_err(|e| InputError::invalid(&dem_path, e.to_string()))?;
+    let surface = SurfaceMap {
+        soil_type: field("soiltype", soiltype),
+        r_n: None,
+        rg70_m: field("rg70", rg70),
+        rg20_m: field("rg20", rg20),
+        rg10_m: field("rg10", rg10),
+    };
+    let density_path = density.0.clone();
+    let rock = RockSpec {
+        shape: RockShape::PerCell(field("rock.blshape", blshape)),
+        dims_m: [
+            field("rock.d1_m", d1),
+            field("rock.d2_m", d2),
+            field("rock.d3_m", d3),
+        ],
+        volume_m3: None,
+        density_kg_m3: field("rock.density_kg_m3", density),
+    };
+    // Source cells: rockdensity > 0. Alignment is checked first so the index is meaningful.
+    dem.geometry()
+        .check_aligned(
+            rock.density_kg_m3
+                .as_grid()
+                .map(|g| g.geometry())
+                .unwrap_or(dem.geometry()),
+        )
+        .map_err(|m| InputError::invalid(&density_path, m.to_string()))?;
+    let cells: Vec<usize> = rock
+        .density_kg_m3
+        .as_grid()
+        .map(|g| {
+            g.values()
+                .iter()
+                .zip(g.mask())
+                .enumerate()
+                .filter(|(_, (v, ok))| **ok && **v > 0.0)
+                .map(|(i, _)| i)
+                .collect()
+        })
+        .unwrap_or_default();
+    if cells.is_empty() {
+        return Err(InputError::invalid(
+            &density_path,
+            "no source cell: no cell has a rock density > 0, so there is nothing to release",
+        ));
+    }
+
+    let forest = read_forest(dir, &files, &mut used, &mut sources, &mut notes)?;
+    let nets = read_nets(dir, &files, &mut used, &mut sources)?;
+
+    for (name, path) in &files {
+        let sidecar = name.ends_with(".prj") && files.contains_key(&name.replace(".prj", ".asc"));
+        if !used.contains(name) && !sidecar {
+            notes.push(format!(
+                "ignored {} (not a Rockyfor3D input)",
+                path.display()
+            ));
+        }
+    }
+    let terrain =
+        Terrain::new(dem, surface).map_err(|e| scenario_error(e.into(), &sources, &dem_path))?;
+    let scenario = Scenario {
+        name: dir
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "rockyfor3d".into()),
+        engine: Engine::Lumped,
+        seed: 1,
+        terrain,
+        forest,
+        nets,
+        rock,
+        release: Release {
+            cells,
+            ..Release::default()
+        },
+        screens: Vec::new(),
+        lumped: LumpedSettings::default(),
+        contact: ContactSettings::default(),
+        simulation: SimulationSettings::default(),
+        output: OutputSettings::default(),
+        sources,
+        notes,
+    };
+    scenario
+        .validate()
+        .map_err(|e| scenario_error(e, &scenario.sources, &dem_path))?;
+    Ok(scenario)
+}
+
+/// Lower-case file name → path, for the files directly in `dir`.
+fn list_files(dir: &Path) -> Result<BTreeMap<String, PathBuf>, InputError> {
+    let mut out = BTreeMap::new();
+    let entries = std::fs::read_dir(dir).map_err(|e| InputError::io(dir, e))?;
+    for e in entries {
+        let e = e.map_err(|e| InputError::io(dir, e))?;
+        let path = e.path();
+        if path.is_file() {
+            out.insert(e.file_name().to_string_lossy().to_ascii_lowercase(), path);
+        }
+    }
+    Ok(out)
+}
+
+fn read_forest(
+    dir: &Path,
+    files: &BTreeMap<String, PathBuf>,
+    used: &mut Vec<String>,
+    sources: &mut BTreeMap<String, PathBuf>,
+    notes: &mut Vec<String>,
+) -> Result<Option<ForestSpec>, InputError> {
+    let present: Vec<&str> = STANDS
+        .iter()
+        .copied()
+        .filter(|n| files.contains_key(&format!("{n}.asc")))
+        .collect();
+    if let Some(path) = files.get(TREEFILE) {
+        used.push(TREEFILE.into());
+        sources.insert("forest.treefile".into(), path.clone());
+        if !present.is_empty() {
+            notes.push(format!(
+                "{TREEFILE} given: the stand rasters ({}) are not used",
+                present.join(", ")
+            ));
+            used.extend(present.iter().map(|n| format!("{n}.asc")));
+        }
+        return Ok(Some(ForestSpec::Stems(trees::read_treefile(path)?)));
+    }
+    if present.is_empty() {
+        return Ok(None);
+    }
+    if let Some(missing) = STANDS.iter().find(|n| !present.contains(n)) {
+        return Err(InputError::Missing {
+            path: dir.join(format!("{missing}.asc")),
+            what: format!(
+                "stand raster (the forest rasters {} come together)",
+                STANDS.join(", ")
+            ),
+        });
+    }
+    let mut field = |name: &str| -> Result<Field, InputError> {
+        let key = format!("{name}.asc");
+        let path = &files[&key];
+        used.push(key);
+        sources.insert(name.into(), path.clone());
+        Ok(Field::Grid(ascii_grid::read(path)?))
+    };
+    Ok(Some(ForestSpec::Stands(Box::new(Stands {
+        stems_per_ha: field("nrtrees")?,
+        dbh_mean_cm: field("dbhmean")?,
+        dbh_sd_cm: field("dbhstd")?,
+        conifer_percent: field("conif_percent")?,
+        height_m: None,
+        options: StandOptions::default(),
+    }))))
+}
+
+fn read_nets(
+    dir: &Path,
+    files: &BTreeMap<String, PathBuf>,
+    used: &mut Vec<String>,
+    sources: &mut BTreeMap<String, PathBuf>,
+) -> Result<Option<Nets>, InputError> {
+    let present: Vec<&str> = NETS
+        .iter()
+        .copied()
+        .filter(|n| files.contains_key(&format!("{n}.asc")))
+        .collect();
+    if present.is_empty() {
+        return Ok(None);
+    }
+    if let Some(missing) = NETS.iter().find(|n| !present.contains(n)) {
+        return Err(InputError::Missing {
+            path: dir.join(format!("{missing}.asc")),
+            what: format!(
+                "net raster (the net rasters {} come together)",
+                NETS.join(", ")
+            ),
+        });
+    }
+    let mut field = |name: &str| -> Result<Field, InputError> {
+        let key = format!("{name}.asc");
+        let path = &files[&key];
+        used.push(key);
+        sources.insert(name.into(), path.clone());
+        Ok(Field::Grid(ascii_grid::read(path)?))
+    };
+    Ok(Some(Nets {
+        number: field("net_number")?,
+        energy_kj: field("net_energy")?,
+        height_m: field("net_height")?,
+    }))
+}

@@ -1,0 +1,385 @@
+//! Scenario files (TOML) → [`Scenario`].
+
+use crate::schema::{self, Param};
+use crate::{InputError, scenario_error, trees};
+use rockfall_forest::StandOptions;
+use rockfall_raster::{Crs, Field, Grid, read_grid};
+use rockfall_scenario::{
+    BlockShape, ContactParams, ContactSettings, Engine, ForestSpec, LumpedSettings, Nets,
+    OutputSettings, Release, ReleasePoint, RockShape, RockSpec, Scenario, Screen,
+    SimulationSettings, Slippage, Stands,
+};
+use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Default soil type when a scenario gives none: class 4 (talus slope, r_n 0.38).
+pub const DEFAULT_SOILTYPE: u8 = 4;
+/// Default rock density when a scenario gives none, kg/m³ (seed 001 table 1).
+pub const DEFAULT_DENSITY_KG_M3: f64 = 2700.0;
+
+/// Reads and validates a scenario file.
+pub fn read_scenario(path: &Path) -> Result<Scenario, InputError> {
+    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
+    let file: schema::File = toml::from_str(&text).map_err(|e| InputError::Toml {
+        path: path.to_path_buf(),
+        message: e.to_string().trim_end().to_string(),
+    })?;
+    let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let mut r = Resolver {
+        base,
+        file: path.to_path_buf(),
+        cache: BTreeMap::new(),
+        sources: BTreeMap::new(),
+    };
+    let scenario = r.build(file, path)?;
+    scenario
+        .validate()
+        .map_err(|e| scenario_error(e, &scenario.sources, path))?;
+    Ok(scenario)
+}
+
+/// Reads rasters relative to the scenario's folder (each file once) and records where every
+/// parameter came from.
+struct Resolver {
+    base: PathBuf,
+    file: PathBuf,
+    cache: BTreeMap<PathBuf, Grid<f64>>,
+    sources: BTreeMap<String, PathBuf>,
+}
+
+impl Resolver {
+    fn path(&self, p: &str) -> PathBuf {
+        self.base.join(p)
+    }
+
+    fn grid(&mut self, param: &str, p: &str) -> Result<Grid<f64>, InputError> {
+        let path = self.path(p);
+        self.sources.insert(param.into(), path.clone());
+        if let Some(g) = self.cache.get(&path) {
+            return Ok(g.clone());
+        }
+        if !path.is_file() {
+            return Err(InputError::Missing {
+                path,
+                what: format!("raster for `{param}` (named in {})", self.file.display()),
+            });
+        }
+        let g = read_grid(&path)?;
+        self.cache.insert(path, g.clone());
+        Ok(g)
+    }
+
+    fn field(&mut self, param: &str, p: Option<Param>, default: f64) -> Result<Field, InputError> {
+        match p {
+            None => Ok(Field::Const(default)),
+            Some(Param::Num(v)) => Ok(Field::Const(v)),
+            Some(Param::Path(s)) => Ok(Field::Grid(self.grid(param, &s)?)),
+        }
+    }
+
+    fn invalid(&self, key: &str, message: impl std::fmt::Display) -> InputError {
+        InputError::invalid(&self.file, format!("{key}: {message}"))
+    }
+
+    fn build(&mut self, f: schema::File, path: &Path) -> Result<Scenario, InputError> {
+        let engine = match &f.engine {
+            None => Engine::Lumped,
+            Some(e) => e.parse().map_err(|m| self.invalid("engine", m))?,
+        };
+        let terrain = self.terrain(f.terrain)?;
+        let rock = self.rock(f.rock)?;
+        let release = self.release(f.release, &terrain)?;
+        let forest = f.forest.map(|s| self.forest(s)).transpose()?;
+        let nets = match f.nets {
+            None => None,
+            Some(n) => Some(Nets {
+                number: self.field("net_number", Some(n.number), 0.0)?,
+                energy_kj: self.field("net_energy", Some(n.energy_kj), 0.0)?,
+                height_m: self.field("net_height", Some(n.height_m), 0.0)?,
+            }),
+        };
+        let screens = f
+            .screens
+            .into_iter()
+            .map(|s| Screen {
+                name: s.name,
+                points_m: s.points_m,
+            })
+            .collect();
+        let lumped = self.lumped(f.lumped)?;
+        let contact = contact(f.contact);
+        let simulation = simulation(f.simulation);
+        let output = output(f.output);
+        let name = f.name.unwrap_or_else(|| {
+            path.file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "scenario".into())
+        });
+        Ok(Scenario {
+            name,
+            engine,
+            seed: f.seed.unwrap_or(1),
+            terrain,
+            forest,
+            nets,
+            rock,
+            release,
+            screens,
+            lumped,
+            contact,
+            simulation,
+            output,
+            sources: std::mem::take(&mut self.sources),
+            notes: Vec::new(),
+        })
+    }
+
+    fn terrain(&mut self, t: schema::TerrainSec) -> Result<Terrain, InputError> {
+        let mut dem_grid = self.grid("dem", &t.dem)?;
+        if let Some(code) = t.epsg {
+            dem_grid.set_crs(Some(Crs::from_epsg(code)));
+        }
+        let dem_path = self.path(&t.dem);
+        let dem = Dem::new(dem_grid).map_err(|e| InputError::invalid(&dem_path, e.to_string()))?;
+        let surface = SurfaceMap {
+            soil_type: self.field("soiltype", t.soiltype, DEFAULT_SOILTYPE as f64)?,
+            r_n: t.r_n.map(|p| self.field("r_n", Some(p), 0.0)).transpose()?,
+            rg70_m: self.field("rg70", t.rg70_m, 0.0)?,
+            rg20_m: self.field("rg20", t.rg20_m, 0.0)?,
+            rg10_m: self.field("rg10", t.rg10_m, 0.0)?,
+        };
+        debug_assert!(SoilType::new(DEFAULT_SOILTYPE).is_some());
+        Terrain::new(dem, surface).map_err(|e| scenario_error(e.into(), &self.sources, &self.file))
+    }
+
+    fn rock(&mut self, r: schema::RockSec) -> Result<RockSpec, InputError> {
+        let density = self.field("rock.density_kg_m3", r.density_kg_m3, DEFAULT_DENSITY_KG_M3)?;
+        let shape = match (r.shape.as_deref(), r.blshape) {
+            (Some(_), Some(_)) => {
+                return Err(self.invalid("rock", "give either `shape` or `blshape`, not both"));
+            }
+            (None, Some(p)) => RockShape::PerCell(self.field("rock.blshape", Some(p), 0.0)?),
+            (s, None) => match RockShape::parse(s.unwrap_or("sphere"))
+                .map_err(|m| self.invalid("rock.shape", m))?
+            {
+                RockShape::File(p) => RockShape::File(self.path(&p.to_string_lossy())),
+                other => other,
+            },
+        };
+        let given = [
+            r.diameter_m.is_some(),
+            r.dims_m.is_some(),
+            r.d1_m.is_some() || r.d2_m.is_some() || r.d3_m.is_some(),
+        ];
+        if given.iter().filter(|g| **g).count() > 1 {
+            return Err(self.invalid(
+                "rock",
+                "give one of `diameter_m`, `dims_m` or `d1_m`/`d2_m`/`d3_m`",
+            ));
+        }
+        let dims_m =
+            if let Some(d) = r.diameter_m {
+                [Field::Const(d), Field::Const(d), Field::Const(d)]
+            } else if let Some(d) = r.dims_m {
+                d.map(Field::Const)
+            } else if given[2] {
+                [
+                    self.field("rock.d1_m", r.d1_m, 0.0)?,
+                    self.field("rock.d2_m", r.d2_m, 0.0)?,
+                    self.field("rock.d3_m", r.d3_m, 0.0)?,
+                ]
+            } else {
+                match &shape {
+                    RockShape::Named(n) => rockfall_scenario::rock::named_dims(n)
+                        .map(|d| d.map(Field::Const))
+                        .ok_or_else(|| {
+                            self.invalid("rock.shape", format!("unknown named shape {n}"))
+                        })?,
+                    RockShape::File(_) => [Field::Const(0.0), Field::Const(0.0), Field::Const(0.0)],
+                    _ => return Err(self.invalid(
+                        "rock",
+                        "missing dimensions: give `diameter_m`, `dims_m` or `d1_m`/`d2_m`/`d3_m`",
+                    )),
+                }
+            };
+        let volume_m3 = match (&shape, r.volume_m3) {
+            (RockShape::Named(_), None) => Some(rockfall_scenario::rock::SEED_001_VOLUME_M3),
+            (_, v) => v,
+        };
+        if matches!(shape, RockShape::Block(BlockShape::Spherical))
+            && r.dims_m.is_some_and(|d| d[0] != d[1] || d[1] != d[2])
+        {
+            return Err(self.invalid(
+                "rock.dims_m",
+                "a sphere has equal dimensions; use `diameter_m`",
+            ));
+        }
+        Ok(RockSpec {
+            shape,
+            dims_m,
+            volume_m3,
+            density_kg_m3: density,
+        })
+    }
+
+    fn release(&mut self, r: schema::ReleaseSec, terrain: &Terrain) -> Result<Release, InputError> {
+        let cells = match &r.cells {
+            None => Vec::new(),
+            Some(p) => {
+                let g = self.grid("release.cells", p)?;
+                let path = self.path(p);
+                terrain
+                    .dem
+                    .geometry()
+                    .check_aligned(g.geometry())
+                    .map_err(|m| InputError::invalid(&path, m.to_string()))?;
+                let cells: Vec<usize> = g
+                    .iter_valid()
+                    .filter(|(_, _, v)| *v > 0.0)
+                    .map(|(row, col, _)| g.geometry().index(row, col))
+                    .collect();
+                if cells.is_empty() {
+                    return Err(InputError::invalid(
+                        &path,
+                        "release raster has no cell > 0: nothing to release",
+                    ));
+                }
+                cells
+            }
+        };
+        let points = r
+            .points
+            .into_iter()
+            .map(|p| ReleasePoint {
+                x_m: p.x_m,
+                y_m: p.y_m,
+                height_m: p.height_m.unwrap_or(0.0),
+                velocity_ms: p.velocity_ms.unwrap_or([0.0; 3]),
+                angular_velocity_rads: p.angular_velocity_rads.unwrap_or([0.0; 3]),
+                orientation_wxyz: p.orientation_wxyz,
+            })
+            .collect();
+        Ok(Release {
+            cells,
+            cell_height_m: r.height_m.unwrap_or(0.0),
+            cell_velocity_ms: r.velocity_ms.unwrap_or([0.0; 3]),
+            points,
+        })
+    }
+
+    fn forest(&mut self, f: schema::ForestSec) -> Result<ForestSpec, InputError> {
+        let stands_given = f.stems_per_ha.is_some()
+            || f.dbh_mean_cm.is_some()
+            || f.dbh_sd_cm.is_some()
+            || f.conifer_percent.is_some();
+        let lists = [f.trees_csv.is_some(), f.treefile.is_some(), stands_given];
+        if lists.iter().filter(|g| **g).count() != 1 {
+            return Err(self.invalid("forest", "give exactly one of `trees_csv`, `treefile` or stands (`stems_per_ha`, `dbh_mean_cm`, `dbh_sd_cm`, `conifer_percent`)"));
+        }
+        if let Some(p) = f.trees_csv.or(f.treefile.clone()) {
+            let path = self.path(&p);
+            if !path.is_file() {
+                return Err(InputError::Missing {
+                    path,
+                    what: format!("tree list (named in {})", self.file.display()),
+                });
+            }
+            self.sources.insert("forest.trees".into(), path.clone());
+            let stems = if f.treefile.is_some() {
+                trees::read_treefile(&path)?
+            } else {
+                trees::read_tree_csv(&path)?
+            };
+            return Ok(ForestSpec::Stems(stems));
+        }
+        let need = |p: Option<Param>, key: &str| {
+            p.ok_or_else(|| self.invalid("forest", format!("stands need `{key}`")))
+        };
+        let stems = need(f.stems_per_ha, "stems_per_ha")?;
+        let mean = need(f.dbh_mean_cm, "dbh_mean_cm")?;
+        let sd = need(f.dbh_sd_cm, "dbh_sd_cm")?;
+        let height_m = match (f.height_mean_m, f.height_sd_m) {
+            (None, None) => None,
+            (Some(m), sd) => Some((m, sd.unwrap_or(0.0))),
+            (None, Some(_)) => {
+                return Err(self.invalid("forest.height_sd_m", "needs `height_mean_m`"));
+            }
+        };
+        let defaults = StandOptions::default();
+        Ok(ForestSpec::Stands(Box::new(Stands {
+            stems_per_ha: self.field("nrtrees", Some(stems), 0.0)?,
+            dbh_mean_cm: self.field("dbhmean", Some(mean), 0.0)?,
+            dbh_sd_cm: self.field("dbhstd", Some(sd), 0.0)?,
+            conifer_percent: self.field("conif_percent", f.conifer_percent, 50.0)?,
+            height_m,
+            options: StandOptions {
+                dbh_min_cm: f.dbh_min_cm.unwrap_or(defaults.dbh_min_cm),
+                dbh_max_cm: f.dbh_max_cm.unwrap_or(defaults.dbh_max_cm),
+            },
+        })))
+    }
+
+    fn lumped(&self, l: Option<schema::LumpedSec>) -> Result<LumpedSettings, InputError> {
+        let d = LumpedSettings::default();
+        let Some(l) = l else { return Ok(d) };
+        Ok(LumpedSettings {
+            moh: match l.moh {
+                None => d.moh,
+                Some(m) => m.parse().map_err(|e| self.invalid("lumped.moh", e))?,
+            },
+            rt_variation: l.rt_variation.unwrap_or(d.rt_variation),
+            slope_reduction_max_deg: l
+                .slope_reduction_max_deg
+                .unwrap_or(d.slope_reduction_max_deg),
+            max_lateral_deviation_deg: l
+                .max_lateral_deviation_deg
+                .unwrap_or(d.max_lateral_deviation_deg),
+            stop_velocity_ms: l.stop_velocity_ms.unwrap_or(d.stop_velocity_ms),
+        })
+    }
+}
+
+fn contact(c: Option<schema::ContactSec>) -> ContactSettings {
+    let d = ContactSettings::default();
+    let Some(c) = c else { return d };
+    let params = |p: Option<schema::ContactParamsSec>, d: ContactParams| match p {
+        None => d,
+        Some(p) => ContactParams {
+            mu: p.mu.unwrap_or(d.mu),
+            eps_n: p.eps_n.unwrap_or(d.eps_n),
+            eps_t: p.eps_t.unwrap_or(d.eps_t),
+        },
+    };
+    ContactSettings {
+        ground: params(c.ground, d.ground),
+        tree: params(c.tree, d.tree),
+        slippage: c.slippage.map(|s| Slippage {
+            mu_min: s.mu_min,
+            mu_max: s.mu_max,
+            beta_per_s: s.beta_per_s,
+            kappa_per_m: s.kappa_per_m,
+        }),
+    }
+}
+
+fn simulation(s: Option<schema::SimulationSec>) -> SimulationSettings {
+    let d = SimulationSettings::default();
+    let Some(s) = s else { return d };
+    SimulationSettings {
+        dt_s: s.dt_s.unwrap_or(d.dt_s),
+        max_time_s: s.max_time_s.unwrap_or(d.max_time_s),
+        rocks_per_cell: s.rocks_per_cell.unwrap_or(d.rocks_per_cell),
+        rocks_per_point: s.rocks_per_point.unwrap_or(d.rocks_per_point),
+    }
+}
+
+fn output(o: Option<schema::OutputSec>) -> OutputSettings {
+    let d = OutputSettings::default();
+    let Some(o) = o else { return d };
+    OutputSettings {
+        trajectories: o.trajectories.unwrap_or(d.trajectories),
+        ascii_rasters: o.ascii_rasters.unwrap_or(d.ascii_rasters),
+        percentiles: o.percentiles.unwrap_or(d.percentiles),
+    }
+}

@@ -1,0 +1,164 @@
+//! The scenario file schema (TOML), as serde structures. Every table rejects unknown keys, so
+//! a misspelt key is an error naming it (with line and column) instead of a silently ignored
+//! setting. See the README for a complete, commented example.
+
+use serde::Deserialize;
+
+/// A per-cell parameter: a number (constant everywhere) or a raster path (`.asc`/`.tif`),
+/// relative to the scenario file's folder.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum Param {
+    /// Constant.
+    Num(f64),
+    /// Raster path.
+    Path(String),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct File {
+    pub name: Option<String>,
+    pub engine: Option<String>,
+    pub seed: Option<u64>,
+    pub terrain: TerrainSec,
+    pub rock: RockSec,
+    pub release: ReleaseSec,
+    pub forest: Option<ForestSec>,
+    pub nets: Option<NetsSec>,
+    #[serde(default)]
+    pub screens: Vec<ScreenSec>,
+    pub lumped: Option<LumpedSec>,
+    pub contact: Option<ContactSec>,
+    pub simulation: Option<SimulationSec>,
+    pub output: Option<OutputSec>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainSec {
+    pub dem: String,
+    pub epsg: Option<u32>,
+    pub soiltype: Option<Param>,
+    pub r_n: Option<Param>,
+    pub rg70_m: Option<Param>,
+    pub rg20_m: Option<Param>,
+    pub rg10_m: Option<Param>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RockSec {
+    pub shape: Option<String>,
+    pub blshape: Option<Param>,
+    pub diameter_m: Option<f64>,
+    pub dims_m: Option<[f64; 3]>,
+    pub d1_m: Option<Param>,
+    pub d2_m: Option<Param>,
+    pub d3_m: Option<Param>,
+    pub volume_m3: Option<f64>,
+    pub density_kg_m3: Option<Param>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReleaseSec {
+    pub cells: Option<String>,
+    pub height_m: Option<f64>,
+    pub velocity_ms: Option<[f64; 3]>,
+    #[serde(default)]
+    pub points: Vec<PointSec>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointSec {
+    pub x_m: f64,
+    pub y_m: f64,
+    pub height_m: Option<f64>,
+    pub velocity_ms: Option<[f64; 3]>,
+    pub angular_velocity_rads: Option<[f64; 3]>,
+    pub orientation_wxyz: Option<[f64; 4]>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ForestSec {
+    pub trees_csv: Option<String>,
+    pub treefile: Option<String>,
+    pub stems_per_ha: Option<Param>,
+    pub dbh_mean_cm: Option<Param>,
+    pub dbh_sd_cm: Option<Param>,
+    pub conifer_percent: Option<Param>,
+    pub height_mean_m: Option<f64>,
+    pub height_sd_m: Option<f64>,
+    pub dbh_min_cm: Option<f64>,
+    pub dbh_max_cm: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NetsSec {
+    pub number: Param,
+    pub energy_kj: Param,
+    pub height_m: Param,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScreenSec {
+    pub name: String,
+    pub points_m: Vec<[f64; 2]>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LumpedSec {
+    pub moh: Option<String>,
+    pub rt_variation: Option<f64>,
+    pub slope_reduction_max_deg: Option<f64>,
+    pub max_lateral_deviation_deg: Option<f64>,
+    pub stop_velocity_ms: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSec {
+    pub ground: Option<ContactParamsSec>,
+    pub tree: Option<ContactParamsSec>,
+    pub slippage: Option<SlippageSec>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactParamsSec {
+    pub mu: Option<f64>,
+    pub eps_n: Option<f64>,
+    pub eps_t: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlippageSec {
+    pub mu_min: f64,
+    pub mu_max: f64,
+    pub beta_per_s: f64,
+    pub kappa_per_m: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationSec {
+    pub dt_s: Option<f64>,
+    pub max_time_s: Option<f64>,
+    pub rocks_per_cell: Option<u64>,
+    pub rocks_per_point: Option<u64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSec {
+    pub trajectories: Option<u64>,
+    pub ascii_rasters: Option<bool>,
+    pub percentiles: Option<Vec<f64>>,
+}

@@ -1,0 +1,327 @@
+//! A scenario written back as input files.
+//!
+//! Writes into a folder: `scenario.toml` (complete, commented, every constant inline and
+//! every raster by relative path), the rasters as ESRI ASCII grids with `.prj` sidecars, the
+//! tree list as `trees.csv`, and — where the scenario fits the Rockyfor3D model (source cells
+//! and block shapes) — the full Rockyfor3D file set (`rockdensity.asc`, `d1–d3.asc`,
+//! `blshape.asc`, `rg70/20/10.asc`, `soiltype.asc`, `treefile.txt` or stand rasters, nets), so
+//! that the folder itself is also a Rockyfor3D input folder. Every file is written
+//! atomically.
+
+use crate::{InputError, trees, write_text};
+use rockfall_raster::{Field, Grid, GridGeometry, ascii_grid};
+use rockfall_scenario::{ForestSpec, RockShape, Scenario};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Writes `scenario` into `dir` (created if needed) and returns the files written.
+pub fn write_scenario_dir(scenario: &Scenario, dir: &Path) -> Result<Vec<PathBuf>, InputError> {
+    std::fs::create_dir_all(dir).map_err(|e| InputError::io(dir, e))?;
+    let mut w = Writer {
+        dir: dir.to_path_buf(),
+        geometry: *scenario.terrain.dem.geometry(),
+        crs: scenario.terrain.dem.crs().cloned(),
+        written: Vec::new(),
+    };
+    w.grid("dem.asc", scenario.terrain.dem.grid())?;
+    if fits_rockyfor3d(scenario) {
+        w.rockyfor3d_set(scenario)?;
+    }
+    if let Some(ForestSpec::Stems(stems)) = &scenario.forest {
+        let p = dir.join("trees.csv");
+        trees::write_tree_csv(&p, stems)?;
+        w.written.push(p);
+    }
+    let toml = w.scenario_toml(scenario)?;
+    let p = dir.join("scenario.toml");
+    write_text(&p, &toml)?;
+    w.written.push(p);
+    Ok(w.written)
+}
+
+/// True when the scenario can be expressed as a Rockyfor3D folder: source cells only, and
+/// block shapes.
+pub fn fits_rockyfor3d(s: &Scenario) -> bool {
+    !s.release.cells.is_empty()
+        && s.release.points.is_empty()
+        && matches!(s.rock.shape, RockShape::Block(_) | RockShape::PerCell(_))
+        && s.rock.volume_m3.is_none()
+}
+
+struct Writer {
+    dir: PathBuf,
+    geometry: GridGeometry,
+    crs: Option<rockfall_raster::Crs>,
+    written: Vec<PathBuf>,
+}
+
+impl Writer {
+    fn grid(&mut self, name: &str, g: &Grid<f64>) -> Result<(), InputError> {
+        let p = self.dir.join(name);
+        let g = g.clone().with_crs(self.crs.clone());
+        ascii_grid::write(&p, &g)?;
+        self.written.push(p);
+        Ok(())
+    }
+
+    fn field_grid(&mut self, name: &str, f: &Field) -> Result<(), InputError> {
+        let g = f.to_grid(&self.geometry);
+        self.grid(name, &g)
+    }
+
+    fn rockyfor3d_set(&mut self, s: &Scenario) -> Result<(), InputError> {
+        let g = self.geometry;
+        // rockdensity: density in source cells, 0 elsewhere
+        let mut density = Grid::filled(g, 0.0);
+        for &i in &s.release.cells {
+            let (row, col) = g.row_col(i);
+            density.set(row, col, s.rock.density_kg_m3.at(row, col).unwrap_or(0.0));
+        }
+        self.grid("rockdensity.asc", &density)?;
+        let blshape = match &s.rock.shape {
+            RockShape::Block(b) => Field::Const(b.code() as f64),
+            RockShape::PerCell(f) => f.clone(),
+            _ => Field::Const(0.0),
+        };
+        self.field_grid("blshape.asc", &blshape)?;
+        for (i, d) in s.rock.dims_m.iter().enumerate() {
+            self.field_grid(&format!("d{}.asc", i + 1), d)?;
+        }
+        let t = &s.terrain.surface;
+        self.field_grid("soiltype.asc", &t.soil_type)?;
+        self.field_grid("rg70.asc", &t.rg70_m)?;
+        self.field_grid("rg20.asc", &t.rg20_m)?;
+        self.field_grid("rg10.asc", &t.rg10_m)?;
+        match &s.forest {
+            Some(ForestSpec::Stems(stems)) => {
+                let p = self.dir.join("treefile.txt");
+                trees::write_treefile(&p, stems)?;
+                self.written.push(p);
+            }
+            Some(ForestSpec::Stands(st)) => {
+                for (name, f) in st.fields() {
+                    self.field_grid(&format!("{name}.asc"), f)?;
+                }
+            }
+            None => {}
+        }
+        if let Some(n) = &s.nets {
+            self.field_grid("net_number.asc", &n.number)?;
+            self.field_grid("net_energy.asc", &n.energy_kj)?;
+            self.field_grid("net_height.asc", &n.height_m)?;
+        }
+        Ok(())
+    }
+
+    /// `key = value` for a field: the constant inline, or a raster written beside.
+    fn param(&mut self, key: &str, file: &str, f: &Field) -> Result<String, InputError> {
+        Ok(match f {
+            Field::Const(v) => format!("{key} = {}\n", num(*v)),
+            Field::Grid(g) => {
+                self.grid(file, g)?;
+                format!("{key} = \"{file}\"\n")
+            }
+        })
+    }
+
+    fn scenario_toml(&mut self, s: &Scenario) -> Result<String, InputError> {
+        let mut t = String::new();
+        let _ = writeln!(
+            t,
+            "# rockfall scenario `{}`, written by rockfall-io.",
+            s.name
+        );
+        let _ = writeln!(
+            t,
+            "# Paths are relative to this file. Units are in the key names.\n"
+        );
+        let _ = writeln!(
+            t,
+            "name = \"{}\"\nengine = \"{}\"\nseed = {}\n",
+            s.name, s.engine, s.seed
+        );
+        t += "[terrain]\ndem = \"dem.asc\"\n";
+        if let Some(code) = s.terrain.dem.crs().and_then(|c| c.epsg) {
+            let _ = writeln!(t, "epsg = {code}");
+        }
+        let sf = &s.terrain.surface;
+        t += &self.param("soiltype", "soiltype.asc", &sf.soil_type)?;
+        if let Some(r) = &sf.r_n {
+            t += &self.param("r_n", "r_n.asc", r)?;
+        }
+        t += &self.param("rg70_m", "rg70.asc", &sf.rg70_m)?;
+        t += &self.param("rg20_m", "rg20.asc", &sf.rg20_m)?;
+        t += &self.param("rg10_m", "rg10.asc", &sf.rg10_m)?;
+
+        t += "\n[rock]\n";
+        let r = &s.rock;
+        match &r.shape {
+            RockShape::PerCell(f) => t += &self.param("blshape", "blshape.asc", f)?,
+            RockShape::File(p) => {
+                let _ = writeln!(t, "shape = \"{}\"", p.display());
+            }
+            other => {
+                let _ = writeln!(t, "shape = \"{}\"", other.describe());
+            }
+        }
+        let named = matches!(r.shape, RockShape::Named(_) | RockShape::File(_));
+        let same = r.dims_m.iter().all(|d| matches!(d, Field::Const(_)))
+            && r.dims_m[0] == r.dims_m[1]
+            && r.dims_m[1] == r.dims_m[2];
+        if !named {
+            if same {
+                if let Field::Const(d) = r.dims_m[0] {
+                    let _ = writeln!(t, "diameter_m = {}", num(d));
+                }
+            } else {
+                for (i, d) in r.dims_m.iter().enumerate() {
+                    t += &self.param(&format!("d{}_m", i + 1), &format!("d{}.asc", i + 1), d)?;
+                }
+            }
+        }
+        if let Some(v) = r.volume_m3 {
+            let _ = writeln!(t, "volume_m3 = {}", num(v));
+        }
+        t += &self.param("density_kg_m3", "density.asc", &r.density_kg_m3)?;
+
+        t += "\n[release]\n";
+        let rel = &s.release;
+        if !rel.cells.is_empty() {
+            let mut mask = Grid::filled(self.geometry, 0.0);
+            for &i in &rel.cells {
+                let (row, col) = self.geometry.row_col(i);
+                mask.set(row, col, 1.0);
+            }
+            self.grid("release.asc", &mask)?;
+            t += "cells = \"release.asc\"          # cells > 0 are source cells\n";
+            let _ = writeln!(t, "height_m = {}", num(rel.cell_height_m));
+            let _ = writeln!(t, "velocity_ms = {}", arr(&rel.cell_velocity_ms));
+        }
+        for p in &rel.points {
+            t += "\n[[release.points]]\n";
+            let _ = writeln!(
+                t,
+                "x_m = {}\ny_m = {}\nheight_m = {}",
+                num(p.x_m),
+                num(p.y_m),
+                num(p.height_m)
+            );
+            let _ = writeln!(t, "velocity_ms = {}", arr(&p.velocity_ms));
+            let _ = writeln!(
+                t,
+                "angular_velocity_rads = {}",
+                arr(&p.angular_velocity_rads)
+            );
+            if let Some(q) = p.orientation_wxyz {
+                let _ = writeln!(t, "orientation_wxyz = {}", arr(&q));
+            }
+        }
+        self.forest_toml(s, &mut t)?;
+        if let Some(n) = &s.nets {
+            t += "\n[nets]\n";
+            t += &self.param("number", "net_number.asc", &n.number)?;
+            t += &self.param("energy_kj", "net_energy.asc", &n.energy_kj)?;
+            t += &self.param("height_m", "net_height.asc", &n.height_m)?;
+        }
+        for sc in &s.screens {
+            let pts: Vec<String> = sc.points_m.iter().map(|p| arr(p)).collect();
+            let _ = write!(
+                t,
+                "\n[[screens]]\nname = \"{}\"\npoints_m = [{}]\n",
+                sc.name,
+                pts.join(", ")
+            );
+        }
+        settings_toml(s, &mut t);
+        Ok(t)
+    }
+
+    fn forest_toml(&mut self, s: &Scenario, t: &mut String) -> Result<(), InputError> {
+        match &s.forest {
+            None => {}
+            Some(ForestSpec::Stems(_)) => *t += "\n[forest]\ntrees_csv = \"trees.csv\"\n",
+            Some(ForestSpec::Stands(st)) => {
+                *t += "\n[forest]\n";
+                *t += &self.param("stems_per_ha", "nrtrees.asc", &st.stems_per_ha)?;
+                *t += &self.param("dbh_mean_cm", "dbhmean.asc", &st.dbh_mean_cm)?;
+                *t += &self.param("dbh_sd_cm", "dbhstd.asc", &st.dbh_sd_cm)?;
+                *t += &self.param("conifer_percent", "conif_percent.asc", &st.conifer_percent)?;
+                if let Some((m, sd)) = st.height_m {
+                    let _ = writeln!(t, "height_mean_m = {}\nheight_sd_m = {}", num(m), num(sd));
+                }
+                let _ = writeln!(
+                    t,
+                    "dbh_min_cm = {}\ndbh_max_cm = {}",
+                    num(st.options.dbh_min_cm),
+                    num(st.options.dbh_max_cm)
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+fn settings_toml(s: &Scenario, t: &mut String) {
+    let l = &s.lumped;
+    let moh = match l.moh {
+        rockfall_scenario::MohMode::Draw => "draw",
+        rockfall_scenario::MohMode::Mean => "mean",
+    };
+    let _ = write!(
+        t,
+        "\n[lumped]\nmoh = \"{moh}\"\nrt_variation = {}\nslope_reduction_max_deg = {}\nmax_lateral_deviation_deg = {}\nstop_velocity_ms = {}\n",
+        num(l.rt_variation),
+        num(l.slope_reduction_max_deg),
+        num(l.max_lateral_deviation_deg),
+        num(l.stop_velocity_ms)
+    );
+    let c = &s.contact;
+    for (name, p) in [("ground", c.ground), ("tree", c.tree)] {
+        let _ = write!(
+            t,
+            "\n[contact.{name}]\nmu = {}\neps_n = {}\neps_t = {}\n",
+            num(p.mu),
+            num(p.eps_n),
+            num(p.eps_t)
+        );
+    }
+    if let Some(sl) = c.slippage {
+        let _ = write!(
+            t,
+            "\n[contact.slippage]\nmu_min = {}\nmu_max = {}\nbeta_per_s = {}\nkappa_per_m = {}\n",
+            num(sl.mu_min),
+            num(sl.mu_max),
+            num(sl.beta_per_s),
+            num(sl.kappa_per_m)
+        );
+    }
+    let m = &s.simulation;
+    let _ = write!(
+        t,
+        "\n[simulation]\ndt_s = {}\nmax_time_s = {}\nrocks_per_cell = {}\nrocks_per_point = {}\n",
+        num(m.dt_s),
+        num(m.max_time_s),
+        m.rocks_per_cell,
+        m.rocks_per_point
+    );
+    let o = &s.output;
+    let _ = write!(
+        t,
+        "\n[output]\ntrajectories = {}\nascii_rasters = {}\npercentiles = {}\n",
+        o.trajectories,
+        o.ascii_rasters,
+        arr(&o.percentiles)
+    );
+}
+
+/// A float as TOML (always with a decimal point or exponent; shortest round-trip form).
+fn num(v: f64) -> String {
+    format!("{v:?}")
+}
+
+fn arr(v: &[f64]) -> String {
+    format!(
+        "[{}]",
+        v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ")
+    )
+}

@@ -1,0 +1,403 @@
+//! ESRI ASCII grid (`.asc`), the format of Rockyfor3D input folders.
+//!
+//! ```text
+//! ncols         4
+//! nrows         3
+//! xllcorner     912000.0      (or xllcenter: centre of the lower-left cell)
+//! yllcorner     6456000.0     (or yllcenter)
+//! cellsize      2.5
+//! NODATA_value  -9999         (optional)
+//! 1 2 3 4
+//! ...                          nrows × ncols values, row 0 = north, any line breaks
+//! ```
+//!
+//! Keys are matched in any case and order; each must appear once. Parsing is strict: a
+//! missing or repeated key, a non-number, NaN or infinity, or a value count other than
+//! `nrows × ncols` is an error naming the file, the line and (for values) the cell.
+//! Non-square cells (`dx`/`dy`) are not supported. The CRS lives in a `.prj` sidecar (WKT),
+//! read when present and written whenever the grid's CRS is known.
+
+use crate::atomic::write_atomic;
+use crate::{Crs, Grid, GridGeometry, RasterError};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Reads an ESRI ASCII grid and its `.prj` sidecar, if any.
+pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
+    let text = std::fs::read_to_string(path).map_err(|e| RasterError::io(path, e))?;
+    let mut grid = parse(&text, path)?;
+    let prj = prj_path(path);
+    if prj.is_file() {
+        let wkt = std::fs::read_to_string(&prj).map_err(|e| RasterError::io(&prj, e))?;
+        if !wkt.trim().is_empty() {
+            grid.set_crs(Some(Crs::from_wkt(&wkt)));
+        }
+    }
+    Ok(grid)
+}
+
+/// The `.prj` sidecar of a grid file (same stem).
+pub fn prj_path(path: &Path) -> PathBuf {
+    path.with_extension("prj")
+}
+
+#[derive(Default)]
+struct Header {
+    ncols: Option<usize>,
+    nrows: Option<usize>,
+    x: Option<(f64, bool)>, // (value, is_center)
+    y: Option<(f64, bool)>,
+    cell_size: Option<f64>,
+    nodata: Option<f64>,
+}
+
+/// Parses the text of an ASCII grid; `path` is only used in error messages.
+pub fn parse(text: &str, path: &Path) -> Result<Grid<f64>, RasterError> {
+    let header_err = |line: usize, message: String| RasterError::Header {
+        path: path.to_path_buf(),
+        line,
+        message,
+    };
+    let mut h = Header::default();
+    let mut lines = text.lines().enumerate().peekable();
+    let mut last_line = 0;
+    // Header: lines whose first token is a key (anything starting with a letter that is
+    // not a number such as "nan" or "inf").
+    while let Some(&(i, line)) = lines.peek() {
+        let line_no = i + 1;
+        let mut tokens = line.split_whitespace();
+        let Some(key) = tokens.next() else {
+            lines.next();
+            continue;
+        };
+        if !key.starts_with(|c: char| c.is_ascii_alphabetic()) || key.parse::<f64>().is_ok() {
+            break;
+        }
+        lines.next();
+        last_line = line_no;
+        let value = tokens
+            .next()
+            .ok_or_else(|| header_err(line_no, format!("header key `{key}` has no value")))?;
+        if let Some(extra) = tokens.next() {
+            return Err(header_err(
+                line_no,
+                format!("unexpected `{extra}` after `{key} {value}`"),
+            ));
+        }
+        let num = |what: &str| -> Result<f64, RasterError> {
+            match value.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                _ => Err(header_err(
+                    line_no,
+                    format!("{what} `{value}` is not a finite number"),
+                )),
+            }
+        };
+        let count = |what: &str| -> Result<usize, RasterError> {
+            value
+                .parse::<usize>()
+                .map_err(|_| header_err(line_no, format!("{what} `{value}` is not a whole number")))
+        };
+        let lower = key.to_ascii_lowercase();
+        let dup = || header_err(line_no, format!("header key `{key}` given twice"));
+        match lower.as_str() {
+            "ncols" => set_once(&mut h.ncols, count("ncols")?).map_err(|_| dup())?,
+            "nrows" => set_once(&mut h.nrows, count("nrows")?).map_err(|_| dup())?,
+            "xllcorner" => set_once(&mut h.x, (num("xllcorner")?, false)).map_err(|_| dup())?,
+            "xllcenter" => set_once(&mut h.x, (num("xllcenter")?, true)).map_err(|_| dup())?,
+            "yllcorner" => set_once(&mut h.y, (num("yllcorner")?, false)).map_err(|_| dup())?,
+            "yllcenter" => set_once(&mut h.y, (num("yllcenter")?, true)).map_err(|_| dup())?,
+            "cellsize" => set_once(&mut h.cell_size, num("cellsize")?).map_err(|_| dup())?,
+            "nodata_value" => set_once(&mut h.nodata, num("NODATA_value")?).map_err(|_| dup())?,
+            "dx" | "dy" => {
+                return Err(header_err(
+                    line_no,
+                    "non-square cells (dx/dy) are not supported; resample to square cells".into(),
+                ));
+            }
+            _ => return Err(header_err(line_no, format!("unknown header key `{key}`"))),
+        }
+    }
+    let geometry = header_geometry(&h, last_line, &header_err)?;
+    let values = parse_values(&mut lines, &geometry, h.nodata, path)?;
+    let mut grid = Grid::from_options(geometry, values).ok_or_else(|| RasterError::Invalid {
+        path: path.to_path_buf(),
+        message: "internal: value count".into(),
+    })?;
+    grid.set_nodata_value(h.nodata);
+    Ok(grid)
+}
+
+fn set_once<T>(slot: &mut Option<T>, value: T) -> Result<(), ()> {
+    if slot.is_some() {
+        return Err(());
+    }
+    *slot = Some(value);
+    Ok(())
+}
+
+fn header_geometry(
+    h: &Header,
+    last_line: usize,
+    header_err: &impl Fn(usize, String) -> RasterError,
+) -> Result<GridGeometry, RasterError> {
+    let missing = |key: &str| header_err(last_line, format!("missing header key `{key}`"));
+    let ncols = h.ncols.ok_or_else(|| missing("ncols"))?;
+    let nrows = h.nrows.ok_or_else(|| missing("nrows"))?;
+    let (x, x_center) = h.x.ok_or_else(|| missing("xllcorner"))?;
+    let (y, y_center) = h.y.ok_or_else(|| missing("yllcorner"))?;
+    let cell = h.cell_size.ok_or_else(|| missing("cellsize"))?;
+    if ncols == 0 || nrows == 0 {
+        return Err(header_err(
+            last_line,
+            format!("empty grid ({ncols} columns × {nrows} rows)"),
+        ));
+    }
+    if cell <= 0.0 {
+        return Err(header_err(
+            last_line,
+            format!("cellsize must be positive, found {cell}"),
+        ));
+    }
+    let half = if x_center { 0.5 * cell } else { 0.0 };
+    let half_y = if y_center { 0.5 * cell } else { 0.0 };
+    Ok(GridGeometry {
+        ncols,
+        nrows,
+        x_min_m: x - half,
+        y_min_m: y - half_y,
+        cell_size_m: cell,
+    })
+}
+
+fn parse_values<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    geometry: &GridGeometry,
+    nodata: Option<f64>,
+    path: &Path,
+) -> Result<Vec<Option<f64>>, RasterError> {
+    let expected = geometry.len();
+    let mut values = Vec::with_capacity(expected);
+    let mut last_line = 0;
+    for (i, line) in lines {
+        let line_no = i + 1;
+        for token in line.split_whitespace() {
+            let n = values.len();
+            if n == expected {
+                return Err(RasterError::Count {
+                    path: path.to_path_buf(),
+                    line: line_no,
+                    message: format!(
+                        "more values than nrows × ncols = {} × {} = {expected}; the first extra value is `{token}`",
+                        geometry.nrows, geometry.ncols
+                    ),
+                });
+            }
+            let (row, col) = geometry.row_col(n);
+            let value_err = |message: String| RasterError::Value {
+                path: path.to_path_buf(),
+                line: line_no,
+                row,
+                col,
+                message,
+            };
+            let v: f64 = token
+                .parse()
+                .map_err(|_| value_err(format!("`{token}` is not a number")))?;
+            if v.is_nan() {
+                return Err(value_err(format!(
+                    "`{token}` (NaN) is not allowed; mark missing cells with NODATA_value"
+                )));
+            }
+            if !v.is_finite() {
+                return Err(value_err(format!("`{token}` is not a finite number")));
+            }
+            values.push(if Some(v) == nodata { None } else { Some(v) });
+        }
+        if !line.trim().is_empty() {
+            last_line = line_no;
+        }
+    }
+    if values.len() != expected {
+        return Err(RasterError::Count {
+            path: path.to_path_buf(),
+            line: last_line,
+            message: format!(
+                "found {} values, expected nrows × ncols = {} × {} = {expected} (file truncated?)",
+                values.len(),
+                geometry.nrows,
+                geometry.ncols
+            ),
+        });
+    }
+    Ok(values)
+}
+
+/// Writes an ESRI ASCII grid (`xllcorner`/`yllcorner` form) atomically, with a `.prj`
+/// sidecar when the grid's CRS is known. Values are written in the shortest form that reads
+/// back to the same `f64` (exact round trip); nodata cells as the grid's nodata value, or
+/// −9999 when it has none.
+pub fn write(path: &Path, grid: &Grid<f64>) -> Result<(), RasterError> {
+    let g = grid.geometry();
+    if g.is_empty() {
+        return Err(RasterError::Invalid {
+            path: path.to_path_buf(),
+            message: "cannot write an empty grid".into(),
+        });
+    }
+    if let Some((_, _, bad)) = grid.iter_valid().find(|(_, _, v)| !v.is_finite()) {
+        return Err(RasterError::Invalid {
+            path: path.to_path_buf(),
+            message: format!("cannot write non-finite value {bad}"),
+        });
+    }
+    let has_nodata = grid.nodata_count() > 0;
+    let nodata = grid.nodata_value().unwrap_or(-9999.0);
+    write_atomic(path, |w| {
+        let io = |e| RasterError::io(path, e);
+        writeln!(w, "ncols {}", g.ncols).map_err(io)?;
+        writeln!(w, "nrows {}", g.nrows).map_err(io)?;
+        writeln!(w, "xllcorner {}", g.x_min_m).map_err(io)?;
+        writeln!(w, "yllcorner {}", g.y_min_m).map_err(io)?;
+        writeln!(w, "cellsize {}", g.cell_size_m).map_err(io)?;
+        if has_nodata || grid.nodata_value().is_some() {
+            writeln!(w, "NODATA_value {nodata}").map_err(io)?;
+        }
+        let mut line = String::with_capacity(g.ncols * 8);
+        for row in 0..g.nrows {
+            line.clear();
+            for col in 0..g.ncols {
+                if col > 0 {
+                    line.push(' ');
+                }
+                let v = grid.get(row, col).unwrap_or(nodata);
+                use std::fmt::Write as _;
+                let _ = write!(line, "{v}");
+            }
+            line.push('\n');
+            w.write_all(line.as_bytes()).map_err(io)?;
+        }
+        Ok::<(), RasterError>(())
+    })?;
+    let prj = prj_path(path);
+    if let Some(wkt) = grid.crs().and_then(Crs::wkt_for_prj) {
+        crate::atomic::write_bytes_atomic(&prj, wkt.as_bytes()).map_err(RasterError::from)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p() -> &'static Path {
+        Path::new("dem.asc")
+    }
+
+    #[test]
+    fn reads_corner_and_center_forms_in_any_case() {
+        let a = parse(
+            "NCOLS 3\nnRows 2\nXLLCORNER 10\nyllcorner 20\nCellSize 2\n1 2 3\n4 5 6\n",
+            p(),
+        )
+        .unwrap();
+        let b = parse(
+            "ncols 3\nnrows 2\nxllcenter 11\nyllcenter 21\ncellsize 2\n1 2 3 4 5 6\n",
+            p(),
+        )
+        .unwrap();
+        assert_eq!(a.geometry(), b.geometry());
+        assert_eq!(a.geometry().x_min_m, 10.0);
+        assert_eq!(a.get(0, 0), Some(1.0));
+        assert_eq!(a.get(1, 2), Some(6.0));
+        assert_eq!(a.values(), b.values());
+    }
+
+    #[test]
+    fn nodata_cells_are_masked() {
+        let g = parse(
+            "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n1 -9999\n3 4\n",
+            p(),
+        )
+        .unwrap();
+        assert_eq!(g.get(0, 1), None);
+        assert_eq!(g.nodata_count(), 1);
+        assert_eq!(g.nodata_value(), Some(-9999.0));
+    }
+
+    fn err(text: &str) -> String {
+        parse(text, p()).unwrap_err().to_string()
+    }
+
+    const HEAD: &str = "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n";
+
+    #[test]
+    fn strict_errors_name_file_line_and_cell() {
+        let e = err(&format!("{HEAD}1 2\n3 x\n"));
+        assert!(
+            e.contains("dem.asc, line 7 (row 1, column 1)") && e.contains("`x`"),
+            "{e}"
+        );
+        let e = err(&format!("{HEAD}1 NaN\n3 4\n"));
+        assert!(
+            e.contains("line 6 (row 0, column 1)") && e.contains("NaN"),
+            "{e}"
+        );
+        let e = err(&format!("{HEAD}1 2\n3 inf\n"));
+        assert!(e.contains("finite"), "{e}");
+        let e = err(&format!("{HEAD}1 2\n3\n"));
+        assert!(
+            e.contains("found 3 values, expected") && e.contains("line 7"),
+            "{e}"
+        );
+        let e = err(&format!("{HEAD}1 2\n3 4\n5\n"));
+        assert!(e.contains("line 8") && e.contains("more values"), "{e}");
+        let e = err("ncols 2\nnrows 2\nxllcorner 0\ncellsize 1\n1 2 3 4\n");
+        assert!(e.contains("missing header key `yllcorner`"), "{e}");
+        let e = err("ncols 2\nncols 2\n");
+        assert!(e.contains("line 2") && e.contains("twice"), "{e}");
+        let e = err("ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\nfoo 3\n");
+        assert!(e.contains("unknown header key `foo`"), "{e}");
+        let e = err("ncols 2.5\n");
+        assert!(e.contains("whole number"), "{e}");
+        let e = err("ncols 0\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n");
+        assert!(e.contains("empty grid"), "{e}");
+        let e = err("");
+        assert!(e.contains("missing header key `ncols`"), "{e}");
+        let e = err("ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize -1\n1 2 3 4\n");
+        assert!(e.contains("positive"), "{e}");
+    }
+
+    #[test]
+    fn round_trip_is_exact_with_prj() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("g.asc");
+        let geom = GridGeometry {
+            ncols: 5,
+            nrows: 4,
+            x_min_m: 912_345.25,
+            y_min_m: 6_456_789.5,
+            cell_size_m: 2.5,
+        };
+        let mut grid = Grid::from_fn(geom, |r, c| {
+            Some(1234.5678901234 + r as f64 * 0.1 - c as f64 / 3.0)
+        })
+        .with_crs(Some(Crs::from_epsg(2154)));
+        grid.set_nodata(2, 3);
+        write(&path, &grid).unwrap();
+        assert!(prj_path(&path).is_file());
+        let back = read(&path).unwrap();
+        assert_eq!(back.geometry(), grid.geometry());
+        assert_eq!(back.mask(), grid.mask());
+        assert_eq!(back.values(), grid.values());
+        assert_eq!(back.crs().and_then(|c| c.epsg), Some(2154));
+    }
+
+    #[test]
+    fn missing_file_is_an_io_error_naming_it() {
+        let e = read(Path::new("/nonexistent/dem.asc"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("/nonexistent/dem.asc"), "{e}");
+    }
+}

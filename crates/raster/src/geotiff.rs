@@ -1,0 +1,580 @@
+//! GeoTIFF (`.tif`): single-band rasters georeferenced by GeoTIFF tags, as GDAL and QGIS
+//! write and read them.
+//!
+//! Georeferencing is carried by `ModelPixelScale` + `ModelTiepoint` (or, on reading, a
+//! rotation-free `ModelTransformation`), the CRS by the EPSG code in the GeoKey directory and
+//! the nodata marker by GDAL's `GDAL_NODATA` ASCII tag. Files are written Deflate-compressed,
+//! in strips, as BigTIFF when the raw samples exceed 2 GiB.
+
+use std::fs::File;
+use std::io::{BufReader, Read, Seek, Write};
+use std::path::Path;
+
+use tiff::TiffError;
+use tiff::decoder::ifd::Value;
+use tiff::decoder::{Decoder, DecodingResult, Limits};
+use tiff::encoder::colortype::{ColorType, Gray32Float, Gray64Float, GrayI32};
+use tiff::encoder::{Compression, DeflateLevel, TiffEncoder, TiffKind, TiffValue};
+use tiff::tags::Tag;
+
+use crate::{Crs, Grid, GridGeometry, RasterError, SampleType};
+
+const GT_MODEL_TYPE: u16 = 1024;
+const GT_RASTER_TYPE: u16 = 1025;
+const GEOGRAPHIC_TYPE: u16 = 2048;
+const PROJECTED_CS_TYPE: u16 = 3072;
+const PIXEL_IS_AREA: u16 = 1;
+const PIXEL_IS_POINT: u16 = 2;
+/// Nodata marker written when the grid names none (or its own cannot be stored).
+const DEFAULT_NODATA: f64 = -9999.0;
+/// Relative tolerance for "square pixels".
+const REL_TOL: f64 = 1e-9;
+
+/// Reads a GeoTIFF: single band, f32/f64/i8/i16/i32/u8/u16/u32 samples, strips or tiles, into
+/// a `Grid<f64>`.
+///
+/// Cells equal to the `GDAL_NODATA` value (compared at the file's sample precision) and
+/// non-finite cells are nodata; the marker is kept as [`Grid::nodata_value`]. The CRS is the
+/// EPSG code of the `ProjectedCSTypeGeoKey` (or `GeographicTypeGeoKey`), when there is one.
+/// Unreadable files and unsupported layouts are [`RasterError::Tiff`].
+pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
+    let file = File::open(path).map_err(|e| RasterError::io(path, e))?;
+    let fail = |message: String| RasterError::Tiff {
+        path: path.to_path_buf(),
+        message,
+    };
+    let bad = |e: TiffError| fail(format!("not a readable TIFF: {e}"));
+    let mut dec = Decoder::new(BufReader::new(file)).map_err(bad)?;
+    let (width, height) = dec.dimensions().map_err(bad)?;
+    let samples = tag(&mut dec, Tag::SamplesPerPixel, Value::into_u32).map_err(bad)?;
+    if let Some(n @ 2..) = samples {
+        return Err(fail(format!(
+            "{n} bands; only single-band GeoTIFFs are supported"
+        )));
+    }
+    let bits = tag(&mut dec, Tag::BitsPerSample, Value::into_u32_vec).map_err(bad)?;
+    let bits = bits.and_then(|b| b.first().copied()).unwrap_or(1);
+    if !matches!(bits, 8 | 16 | 32 | 64) {
+        return Err(fail(format!("{bits}-bit samples are not supported")));
+    }
+    let scale = tag(&mut dec, Tag::ModelPixelScaleTag, Value::into_f64_vec).map_err(bad)?;
+    let tiepoint = tag(&mut dec, Tag::ModelTiepointTag, Value::into_f64_vec).map_err(bad)?;
+    let matrix = tag(&mut dec, Tag::ModelTransformationTag, Value::into_f64_vec).map_err(bad)?;
+    let keys = tag(&mut dec, Tag::GeoKeyDirectoryTag, Value::into_u16_vec).map_err(bad)?;
+    let (x_min_m, y_max, cell_size_m, epsg) =
+        georef(scale, tiepoint, matrix, &keys.unwrap_or_default()).map_err(fail)?;
+    let nodata = match tag(&mut dec, Tag::GdalNodata, Value::into_string).map_err(bad)? {
+        None => None,
+        Some(text) => {
+            let text = text.trim_matches(|c: char| c == '\0' || c.is_whitespace());
+            let parsed = text.parse::<f64>();
+            Some(parsed.map_err(|_| fail(format!("GDAL_NODATA {text:?} is not a number")))?)
+        }
+    };
+
+    let (ncols, nrows) = (width as usize, height as usize);
+    let n = ncols.saturating_mul(nrows);
+    let mut values: Vec<f64> = Vec::new();
+    values
+        .try_reserve_exact(n)
+        .map_err(|_| fail(format!("{width} × {height} pixels do not fit in memory")))?;
+    let mut limits = Limits::default();
+    let bytes = n.saturating_mul(bits as usize / 8);
+    limits.decoding_buffer_size = limits.decoding_buffer_size.max(bytes);
+    limits.intermediate_buffer_size = limits.intermediate_buffer_size.max(bytes);
+    limits.ifd_value_size = limits.ifd_value_size.max(1 << 26);
+    let image = dec.with_limits(limits).read_image().map_err(bad)?;
+    // Float32 data are compared with the marker rounded to f32, as GDAL does.
+    let mut nd = nodata;
+    match image {
+        DecodingResult::U8(v) => values.extend(v.into_iter().map(f64::from)),
+        DecodingResult::U16(v) => values.extend(v.into_iter().map(f64::from)),
+        DecodingResult::U32(v) => values.extend(v.into_iter().map(f64::from)),
+        DecodingResult::U64(v) => values.extend(v.into_iter().map(|x| x as f64)),
+        DecodingResult::I8(v) => values.extend(v.into_iter().map(f64::from)),
+        DecodingResult::I16(v) => values.extend(v.into_iter().map(f64::from)),
+        DecodingResult::I32(v) => values.extend(v.into_iter().map(f64::from)),
+        DecodingResult::I64(v) => values.extend(v.into_iter().map(|x| x as f64)),
+        DecodingResult::F16(v) => values.extend(v.into_iter().map(f64::from)),
+        DecodingResult::F32(v) => {
+            values.extend(v.into_iter().map(f64::from));
+            nd = nodata.map(|x| f64::from(x as f32));
+        }
+        DecodingResult::F64(v) => values.extend(v),
+    }
+    let geometry = GridGeometry {
+        ncols,
+        nrows,
+        x_min_m,
+        y_min_m: y_max - nrows as f64 * cell_size_m,
+        cell_size_m,
+    };
+    let masked: Vec<usize> = (values.iter().enumerate())
+        .filter(|&(_, &v)| !v.is_finite() || Some(v) == nd)
+        .map(|(i, _)| i)
+        .collect();
+    let found = values.len();
+    let mut grid = Grid::from_values(geometry, values)
+        .ok_or_else(|| fail(format!("{found} samples for {width} × {height} pixels")))?;
+    for i in masked {
+        let (row, col) = geometry.row_col(i);
+        grid.set_nodata(row, col);
+    }
+    grid.set_nodata_value(nodata);
+    grid.set_crs(epsg.map(Crs::from_epsg));
+    Ok(grid)
+}
+
+/// A tag's value converted by `f`, `None` when the tag is absent.
+fn tag<R: Read + Seek, T>(
+    dec: &mut Decoder<R>,
+    tag: Tag,
+    f: impl FnOnce(Value) -> Result<T, TiffError>,
+) -> Result<Option<T>, TiffError> {
+    dec.find_tag(tag)?.map(f).transpose()
+}
+
+/// (x_min, y_max, cell size, EPSG code) from the tag values (`keys`: the GeoKey directory).
+fn georef(
+    scale: Option<Vec<f64>>,
+    tiepoint: Option<Vec<f64>>,
+    transform: Option<Vec<f64>>,
+    keys: &[u16],
+) -> Result<(f64, f64, f64, Option<u32>), String> {
+    let key = |id: u16| -> Option<u16> {
+        let count = usize::from(*keys.get(3)?);
+        (keys.get(4..)?.chunks_exact(4).take(count))
+            .find(|k| k[0] == id && k[1] == 0)
+            .map(|k| k[3])
+    };
+    let (x_min, y_max, sx, sy) = match (scale, tiepoint, transform) {
+        // Raster point (i, j) is model point (x, y); y grows northwards, rows southwards.
+        (Some(s), Some(t), _) if s.len() >= 2 && t.len() >= 6 => {
+            (t[3] - t[0] * s[0], t[4] + t[1] * s[1], s[0], s[1])
+        }
+        (_, _, Some(m)) if m.len() >= 16 && m[1] == 0.0 && m[4] == 0.0 => (m[3], m[7], m[0], -m[5]),
+        (_, _, Some(_)) => return Err("rotated or malformed ModelTransformation".into()),
+        (_, Some(_), _) => return Err("tiepoints without a pixel scale are not supported".into()),
+        _ => return Err("no georeferencing (ModelPixelScale/Tiepoint or Transformation)".into()),
+    };
+    if !(sx.is_finite() && sx > 0.0 && sy.is_finite() && sy > 0.0) {
+        return Err(format!("pixel size {sx} × {sy}: not a north-up raster"));
+    }
+    if (sx - sy).abs() > REL_TOL * sx {
+        return Err(format!("non-square pixels ({sx} × {sy}) are not supported"));
+    }
+    if !(x_min.is_finite() && y_max.is_finite()) {
+        return Err("the raster origin is not a finite number".into());
+    }
+    // PixelIsPoint: the tiepoint names a cell centre; move to its corner as GDAL does.
+    let half = match key(GT_RASTER_TYPE) {
+        Some(PIXEL_IS_POINT) => 0.5 * sx,
+        _ => 0.0,
+    };
+    let epsg = [PROJECTED_CS_TYPE, GEOGRAPHIC_TYPE]
+        .into_iter()
+        .filter_map(key)
+        .find(|&c| (1..32767).contains(&c))
+        .map(u32::from);
+    Ok((x_min - half, y_max + half, sx, epsg))
+}
+
+/// Writes a single-band GeoTIFF with georeferencing (PixelIsArea, EPSG GeoKeys when the CRS
+/// has a code), atomically through [`crate::atomic::write_atomic`].
+///
+/// When the grid has nodata cells they hold the marker written as `GDAL_NODATA`: the grid's
+/// [`Grid::nodata_value`] when the sample type can store it, else −9999 (or the type's lowest
+/// value when a valid cell already equals the marker). `I32` rounds to the nearest integer.
+/// Empty grids, non-finite valid cells and values the sample type cannot hold are
+/// [`RasterError::Invalid`].
+pub fn write(path: &Path, grid: &Grid<f64>, sample: SampleType) -> Result<(), RasterError> {
+    let invalid = |message: String| RasterError::Invalid {
+        path: path.to_path_buf(),
+        message,
+    };
+    let g = grid.geometry();
+    let (Ok(width @ 1..), Ok(height @ 1..)) = (u32::try_from(g.ncols), u32::try_from(g.nrows))
+    else {
+        return Err(invalid(format!(
+            "cannot write a {} × {} grid",
+            g.ncols, g.nrows
+        )));
+    };
+    let cell = g.cell_size_m;
+    if !(cell.is_finite() && cell > 0.0 && g.x_min_m.is_finite() && g.y_max_m().is_finite()) {
+        let (x, y) = (g.x_min_m, g.y_min_m);
+        return Err(invalid(format!(
+            "bad origin ({x}, {y}) or cell size {cell}"
+        )));
+    }
+    let nodata = match grid.nodata_count() {
+        0 => None,
+        _ => Some(choose_nodata(grid, sample).ok_or_else(|| {
+            invalid("every candidate nodata marker is also a valid cell value".into())
+        })?),
+    };
+    let nd = nodata.unwrap_or(DEFAULT_NODATA);
+    let bad_cell = |(i, v): (usize, f64)| {
+        let (row, col) = g.row_col(i);
+        invalid(format!(
+            "cell (row {row}, column {col}) = {v:?} does not fit {sample:?}"
+        ))
+    };
+    let tags = GeoTags {
+        size: (width, height),
+        scale: [cell, cell, 0.0],
+        tiepoint: [0.0, 0.0, 0.0, g.x_min_m, g.y_max_m(), 0.0],
+        keys: geo_keys(grid.crs()),
+        nodata: nodata.map(|v| format_nodata(v, sample)),
+    };
+    match sample {
+        SampleType::F64 => {
+            let data = convert(grid, nd, f64::is_finite, |v| v);
+            save::<Gray64Float>(path, &data.map_err(bad_cell)?, &tags)
+        }
+        SampleType::F32 => {
+            let data = convert(grid, nd, |v| (v as f32).is_finite(), |v| v as f32);
+            save::<Gray32Float>(path, &data.map_err(bad_cell)?, &tags)
+        }
+        SampleType::I32 => {
+            let data = convert(grid, nd, |v| fits_i32(v.round()), |v| v.round() as i32);
+            save::<GrayI32>(path, &data.map_err(bad_cell)?, &tags)
+        }
+    }
+}
+
+/// Encodes `data` with `tags` through [`crate::atomic::write_atomic`]; BigTIFF above 2 GiB.
+fn save<C: ColorType>(path: &Path, data: &[C::Inner], tags: &GeoTags) -> Result<(), RasterError>
+where
+    [C::Inner]: TiffValue,
+{
+    let big = std::mem::size_of_val(data) > 1 << 31;
+    crate::atomic::write_atomic(path, |w| {
+        let result = if big {
+            TiffEncoder::new_big(w).and_then(|e| encode::<_, _, C>(e, data, tags))
+        } else {
+            TiffEncoder::new(w).and_then(|e| encode::<_, _, C>(e, data, tags))
+        };
+        result.map_err(|e| match e {
+            TiffError::IoError(source) => RasterError::io(path, source),
+            e => RasterError::Tiff {
+                path: path.to_path_buf(),
+                message: format!("cannot encode the TIFF: {e}"),
+            },
+        })
+    })
+}
+
+/// Valid cells through `to` (when `fits`), nodata cells as `to(nodata)`; fails with the
+/// (index, value) of the first valid cell that does not fit.
+fn convert<T>(
+    grid: &Grid<f64>,
+    nodata: f64,
+    fits: impl Fn(f64) -> bool,
+    to: impl Fn(f64) -> T,
+) -> Result<Vec<T>, (usize, f64)> {
+    (grid.values().iter().zip(grid.mask()).enumerate())
+        .map(|(i, (&v, &valid))| match valid {
+            false => Ok(to(nodata)),
+            true if fits(v) => Ok(to(v)),
+            true => Err((i, v)),
+        })
+        .collect()
+}
+
+fn fits_i32(v: f64) -> bool {
+    v >= f64::from(i32::MIN) && v <= f64::from(i32::MAX)
+}
+
+/// The nodata marker: the grid's own, else −9999, else the type's lowest value — the first the
+/// sample type can store that no valid cell (as stored) equals. NaN is kept for float types.
+fn choose_nodata(grid: &Grid<f64>, sample: SampleType) -> Option<f64> {
+    let stored = |v: f64| match sample {
+        SampleType::F64 => v,
+        SampleType::F32 => f64::from(v as f32),
+        SampleType::I32 => v.round(),
+    };
+    let storable = |v: f64| match sample {
+        SampleType::F64 => !v.is_infinite(),
+        SampleType::F32 => !(v as f32).is_infinite(),
+        SampleType::I32 => v.fract() == 0.0 && fits_i32(v),
+    };
+    let lowest = match sample {
+        SampleType::F64 => f64::MIN,
+        SampleType::F32 => f64::from(f32::MIN),
+        SampleType::I32 => f64::from(i32::MIN),
+    };
+    [grid.nodata_value(), Some(DEFAULT_NODATA), Some(lowest)]
+        .into_iter()
+        .flatten()
+        .filter(|&v| storable(v))
+        .map(stored)
+        .find(|&nd| nd.is_nan() || !grid.iter_valid().any(|(_, _, v)| stored(v) == nd))
+}
+
+/// `GDAL_NODATA` text: integers without a fraction, others with enough digits to round-trip.
+fn format_nodata(v: f64, sample: SampleType) -> String {
+    if v.is_nan() {
+        "nan".into()
+    } else if v.fract() == 0.0 && v.abs() < 1e15 || sample == SampleType::I32 {
+        format!("{v}")
+    } else {
+        format!("{v:?}")
+    }
+}
+
+/// GeoKey directory: model type, PixelIsArea and the EPSG code when it fits a GeoKey. Empty
+/// without a CRS: GDAL then reports no CRS rather than an "unnamed" engineering one.
+fn geo_keys(crs: Option<&Crs>) -> Vec<u16> {
+    let Some(crs) = crs else {
+        return Vec::new();
+    };
+    let (model, cs_key) = match crs.is_geographic() {
+        true => (2, GEOGRAPHIC_TYPE),
+        false => (1, PROJECTED_CS_TYPE),
+    };
+    let mut keys = vec![
+        1,
+        1,
+        0,
+        2,
+        GT_MODEL_TYPE,
+        0,
+        1,
+        model,
+        GT_RASTER_TYPE,
+        0,
+        1,
+        PIXEL_IS_AREA,
+    ];
+    let code = crs.epsg.and_then(|c| u16::try_from(c).ok());
+    if let Some(code) = code.filter(|c| (1..32767).contains(c)) {
+        keys[3] = 3;
+        keys.extend([cs_key, 0, 1, code]);
+    }
+    keys
+}
+
+/// Size and georeferencing tags of a written file.
+struct GeoTags {
+    size: (u32, u32),
+    scale: [f64; 3],
+    tiepoint: [f64; 6],
+    keys: Vec<u16>,
+    nodata: Option<String>,
+}
+
+fn encode<W: Write + Seek, K: TiffKind, C: ColorType>(
+    encoder: TiffEncoder<W, K>,
+    data: &[C::Inner],
+    tags: &GeoTags,
+) -> Result<(), TiffError>
+where
+    [C::Inner]: TiffValue,
+{
+    let mut encoder = encoder.with_compression(Compression::Deflate(DeflateLevel::Balanced));
+    let mut image = encoder.new_image::<C>(tags.size.0, tags.size.1)?;
+    let dir = image.encoder();
+    dir.write_tag(Tag::ModelPixelScaleTag, &tags.scale[..])?;
+    dir.write_tag(Tag::ModelTiepointTag, &tags.tiepoint[..])?;
+    if !tags.keys.is_empty() {
+        dir.write_tag(Tag::GeoKeyDirectoryTag, &tags.keys[..])?;
+    }
+    if let Some(nodata) = &tags.nodata {
+        dir.write_tag(Tag::GdalNodata, nodata.as_str())?;
+    }
+    image.write_data(data)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tiff::encoder::colortype::{Gray8, Gray16, GrayI16, RGB8};
+
+    /// 4 × 3 cells of 2.5 m, north-west corner (1000.25, 2008.25), cell (1, 2) nodata.
+    fn grid(value: impl Fn(usize) -> f64) -> Grid<f64> {
+        let g = GridGeometry {
+            ncols: 4,
+            nrows: 3,
+            x_min_m: 1000.25,
+            y_min_m: 2000.75,
+            cell_size_m: 2.5,
+        };
+        let mut grid = Grid::from_values(g, (0..12).map(value).collect()).unwrap();
+        grid.set_nodata(1, 2);
+        grid
+    }
+
+    fn round_trip(grid: &Grid<f64>, sample: SampleType) -> Grid<f64> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("g.tif");
+        write(&path, grid, sample).unwrap();
+        read(&path).unwrap()
+    }
+
+    #[test]
+    fn round_trips_keep_values_geometry_nodata_and_crs() {
+        let samples = [
+            (SampleType::F32, 0.5),
+            (SampleType::F64, std::f64::consts::PI),
+            (SampleType::I32, 7.0),
+        ];
+        for (sample, step) in samples {
+            for crs in [Some(Crs::from_epsg(2154)), None] {
+                let mut grid = grid(|i| i as f64 * step - 1e3).with_crs(crs);
+                let back = round_trip(&grid, sample);
+                grid.set_nodata_value(Some(-9999.0));
+                assert_eq!(back, grid, "{sample:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn i32_rounds_to_nearest_and_keeps_the_grid_marker() {
+        let mut grid = grid(|i| i as f64 * 1.3 - 4.0);
+        grid.set_nodata_value(Some(-32768.0));
+        let back = round_trip(&grid, SampleType::I32);
+        // -4, -2.7, -1.4, -0.1, 1.2, 2.5 (half away from zero), nodata, …
+        let expected = [-4.0, -3.0, -1.0, 0.0, 1.0, 3.0, 0.0];
+        assert_eq!(&back.values()[..7], &expected);
+        assert_eq!(
+            (back.get(1, 2), back.nodata_value()),
+            (None, Some(-32768.0))
+        );
+    }
+
+    #[test]
+    fn nodata_marker_never_masks_a_valid_cell() {
+        let mut grid = grid(|i| if i == 0 { -9999.0 } else { 0.0 });
+        grid.set_nodata_value(Some(0.0));
+        let back = round_trip(&grid, SampleType::F32);
+        assert_eq!(
+            (back.mask(), back.nodata_value()),
+            (grid.mask(), Some(f64::from(f32::MIN)))
+        );
+        grid.set_nodata_value(Some(f64::NAN));
+        let back = round_trip(&grid, SampleType::F64);
+        assert_eq!(back.mask(), grid.mask());
+        assert!(back.nodata_value().is_some_and(f64::is_nan));
+    }
+
+    #[test]
+    fn non_finite_cells_and_empty_grids_are_invalid_and_write_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bad.tif");
+        let mut grid = grid(|i| i as f64);
+        for (value, sample) in [
+            (f64::NAN, SampleType::F64),
+            (1e39, SampleType::F32),
+            (3e9, SampleType::I32),
+        ] {
+            grid.set(2, 3, value);
+            let err = write(&path, &grid, sample).unwrap_err();
+            assert!(matches!(err, RasterError::Invalid { .. }), "{err}");
+            assert!(err.to_string().contains("row 2, column 3"), "{err}");
+        }
+        let empty = Grid::filled(
+            GridGeometry {
+                ncols: 0,
+                ..*grid.geometry()
+            },
+            0.0,
+        );
+        let err = write(&path, &empty, SampleType::F32).unwrap_err();
+        assert!(matches!(err, RasterError::Invalid { .. }), "{err}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+
+    #[test]
+    fn truncated_or_garbage_files_are_tiff_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("g.tif");
+        write(&path, &grid(|i| i as f64), SampleType::F32).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        for len in (0..bytes.len()).chain([8]) {
+            let mut cut = bytes[..len].to_vec();
+            cut.extend_from_slice(if len == 8 { b"garbage" } else { b"" });
+            std::fs::write(&path, &cut).unwrap();
+            match read(&path) {
+                Err(e @ RasterError::Tiff { .. }) => assert!(e.to_string().contains("g.tif")),
+                other => panic!("cut to {len} bytes: {other:?}"),
+            }
+        }
+    }
+
+    /// Reads a hand-made 3 × 2 TIFF with the given double tags and GeoKeys.
+    fn custom<C: ColorType>(
+        data: &[C::Inner],
+        doubles: &[(Tag, &[f64])],
+        keys: &[u16],
+    ) -> Result<Grid<f64>, RasterError>
+    where
+        [C::Inner]: TiffValue,
+    {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("c.tif");
+        let mut file = File::create(&path).unwrap();
+        let mut enc = TiffEncoder::new(&mut file).unwrap();
+        let mut image = enc.new_image::<C>(3, 2).unwrap();
+        for &(tag, v) in doubles {
+            image.encoder().write_tag(tag, v).unwrap();
+        }
+        if !keys.is_empty() {
+            image
+                .encoder()
+                .write_tag(Tag::GeoKeyDirectoryTag, keys)
+                .unwrap();
+        }
+        image.write_data(data).unwrap();
+        read(&path)
+    }
+
+    /// (x_min, y_max, cell, EPSG) of a grid.
+    fn georef_of(grid: &Grid<f64>) -> (f64, f64, f64, Option<u32>) {
+        let g = grid.geometry();
+        (
+            g.x_min_m,
+            g.y_max_m(),
+            g.cell_size_m,
+            grid.crs().and_then(|c| c.epsg),
+        )
+    }
+
+    #[test]
+    fn hand_made_georeferencing_is_read_like_gdal() {
+        let (scale, tie) = (Tag::ModelPixelScaleTag, Tag::ModelTiepointTag);
+        let s10: &[f64] = &[10.0, 10.0, 0.0];
+        // Tiepoint at raster (1, 1) = (110, 490): the north-west corner is (100, 500).
+        let tie11: &[f64] = &[1.0, 1.0, 0.0, 110.0, 490.0, 0.0];
+        let grid = custom::<Gray8>(&[1, 2, 3, 4, 5, 6], &[(scale, s10), (tie, tie11)], &[]);
+        let grid = grid.unwrap();
+        assert_eq!(georef_of(&grid), (100.0, 500.0, 10.0, None));
+        assert_eq!(grid.values(), &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        // PixelIsPoint, EPSG:4326: (0, 0) is the centre of the north-west cell.
+        let keys = [1, 1, 0, 3, 1024, 0, 1, 2, 1025, 0, 1, 2, 2048, 0, 1, 4326];
+        let centre: &[f64] = &[0.0, 0.0, 0.0, 105.0, 495.0, 0.0];
+        let grid = custom::<GrayI16>(&[-1, 2, 3, 4, 5, 6], &[(scale, s10), (tie, centre)], &keys);
+        let grid = grid.unwrap();
+        assert_eq!(georef_of(&grid), (100.0, 500.0, 10.0, Some(4326)));
+        assert_eq!(grid.get(0, 0), Some(-1.0));
+        // ModelTransformation without rotation; with rotation it is an error.
+        let mut m = [0.0; 16];
+        (m[0], m[3], m[5], m[7], m[15]) = (2.0, 100.0, -2.0, 500.0, 1.0);
+        let grid = custom::<Gray16>(&[7; 6], &[(Tag::ModelTransformationTag, &m)], &[]).unwrap();
+        assert_eq!(georef_of(&grid), (100.0, 500.0, 2.0, None));
+        m[1] = 0.5;
+        let err = custom::<Gray16>(&[7; 6], &[(Tag::ModelTransformationTag, &m)], &[]);
+        assert!(err.unwrap_err().to_string().contains("rotated"));
+        // Non-square pixels, no georeferencing, three bands.
+        let err = custom::<Gray8>(&[0; 6], &[(scale, &[10.0, 5.0, 0.0]), (tie, centre)], &[]);
+        assert!(err.unwrap_err().to_string().contains("non-square"));
+        let err = custom::<Gray8>(&[0; 6], &[], &[]).unwrap_err();
+        assert!(
+            err.to_string().contains("c.tif: no georeferencing"),
+            "{err}"
+        );
+        let err = custom::<RGB8>(&[0; 18], &[(scale, s10), (tie, centre)], &[]).unwrap_err();
+        assert!(matches!(err, RasterError::Tiff { .. }), "{err}");
+        assert!(err.to_string().contains("3 bands"), "{err}");
+    }
+}

@@ -1,0 +1,80 @@
+//! Georeferenced rasters for rockfall.
+//!
+//! A [`Grid`] is a north-up, square-celled raster: a [`GridGeometry`] (origin, cell size,
+//! size), one value per cell, a validity (nodata) mask and, where known, a coordinate
+//! reference system ([`Crs`]). Row 0 is the northern row, as in ESRI ASCII grids and GeoTIFF;
+//! column 0 the western column. Values are *cell-registered*: a value describes its whole cell
+//! and is located at the cell centre.
+//!
+//! Formats each live in their own module behind this one type:
+//! - [`ascii_grid`]: ESRI ASCII grid (`.asc`) with a `.prj` sidecar for the CRS;
+//! - [`geotiff`]: GeoTIFF (`.tif`), f32/f64/integer samples, GeoKeys for GDAL and QGIS.
+//!
+//! [`read_grid`] and [`write_grid`] pick the format from the file extension. Every writer goes
+//! through [`atomic`]: it writes to a temporary name beside the target and renames, so a
+//! failed write never leaves a half-written file and never destroys an earlier one.
+
+pub mod ascii_grid;
+pub mod atomic;
+pub mod crs;
+mod crs_table;
+mod error;
+mod field;
+pub mod geotiff;
+mod grid;
+
+pub use crs::Crs;
+pub use error::RasterError;
+pub use field::Field;
+pub use grid::{GeometryMismatch, Grid, GridGeometry};
+
+use std::path::Path;
+
+/// Sample type used when writing a GeoTIFF (ASCII grids are always text).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SampleType {
+    /// 32-bit IEEE float (the default: enough for heights and energies).
+    #[default]
+    F32,
+    /// 64-bit IEEE float.
+    F64,
+    /// 32-bit signed integer (values are rounded to the nearest integer).
+    I32,
+}
+
+/// Reads a raster, choosing the format from the extension (`.asc`/`.txt` → ESRI ASCII grid,
+/// `.tif`/`.tiff` → GeoTIFF).
+pub fn read_grid(path: &Path) -> Result<Grid<f64>, RasterError> {
+    match format_of(path)? {
+        Format::Ascii => ascii_grid::read(path),
+        Format::GeoTiff => geotiff::read(path),
+    }
+}
+
+/// Writes a raster, choosing the format from the extension. `sample` applies to GeoTIFF only.
+pub fn write_grid(path: &Path, grid: &Grid<f64>, sample: SampleType) -> Result<(), RasterError> {
+    match format_of(path)? {
+        Format::Ascii => ascii_grid::write(path, grid),
+        Format::GeoTiff => geotiff::write(path, grid, sample),
+    }
+}
+
+enum Format {
+    Ascii,
+    GeoTiff,
+}
+
+fn format_of(path: &Path) -> Result<Format, RasterError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    match ext.as_str() {
+        "asc" | "txt" => Ok(Format::Ascii),
+        "tif" | "tiff" => Ok(Format::GeoTiff),
+        _ => Err(RasterError::UnknownFormat {
+            path: path.to_path_buf(),
+        }),
+    }
+}

@@ -1,0 +1,180 @@
+//! GDAL as an oracle: files we write must read in GDAL with the right geometry, CRS and
+//! nodata, and files GDAL writes from ours must read back identically.
+//!
+//! Needs `gdalinfo`/`gdal_translate` (Debian: gdal-bin). Without them the tests print a notice
+//! and pass, except when `CI` is set: then they fail, so CI cannot silently skip the oracle.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use std::path::Path;
+use std::process::Command;
+
+use rockfall_raster::{Crs, Grid, GridGeometry, RasterError, SampleType, ascii_grid, geotiff};
+use serde_json::Value;
+
+const X_MIN: f64 = 912345.5;
+const Y_MAX: f64 = 6456789.0;
+const CELL: f64 = 2.5;
+
+fn gdal_available() -> bool {
+    match Command::new("gdalinfo").arg("--version").output() {
+        Ok(out) if out.status.success() => true,
+        _ if std::env::var_os("CI").is_some() => {
+            panic!(
+                "gdalinfo is not on PATH: gdal-bin must be installed to run the GDAL oracle tests in CI"
+            )
+        }
+        _ => {
+            eprintln!(
+                "notice: gdalinfo not found on PATH; GDAL oracle test skipped (install gdal-bin)"
+            );
+            false
+        }
+    }
+}
+
+/// 7 × 5 cells, EPSG:2154, four nodata cells.
+fn lambert93_grid() -> Grid<f64> {
+    let geometry = GridGeometry {
+        ncols: 7,
+        nrows: 5,
+        x_min_m: X_MIN,
+        y_min_m: Y_MAX - 5.0 * CELL,
+        cell_size_m: CELL,
+    };
+    Grid::from_fn(geometry, |row, col| {
+        ((row + 2 * col) % 6 != 5).then_some(1200.0 + 3.0 * row as f64 - 1.5 * col as f64)
+    })
+    .with_crs(Some(Crs::from_epsg(2154)))
+}
+
+fn run(program: &str, args: &[&str]) -> String {
+    let out = Command::new(program).args(args).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{program} {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+fn gdalinfo(path: &Path) -> Value {
+    serde_json::from_str(&run("gdalinfo", &["-json", path.to_str().unwrap()])).unwrap()
+}
+
+/// Asserts geotransform, size and EPSG:2154 of a `gdalinfo -json` report.
+fn assert_lambert93_geometry(info: &Value) {
+    let gt: Vec<f64> = (info["geoTransform"].as_array().unwrap().iter())
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(gt, [X_MIN, CELL, 0.0, Y_MAX, 0.0, -CELL], "{info:#}");
+    assert_eq!(info["size"], serde_json::json!([7, 5]));
+    let wkt = info["coordinateSystem"]["wkt"].as_str().unwrap();
+    assert!(wkt.trim_end().ends_with(r#"ID["EPSG",2154]]"#), "{wkt}");
+}
+
+#[test]
+fn gdalinfo_reads_our_geotiff_geometry_epsg_and_nodata() {
+    if !gdal_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    for (sample, gdal_type) in [
+        (SampleType::F32, "Float32"),
+        (SampleType::F64, "Float64"),
+        (SampleType::I32, "Int32"),
+    ] {
+        let path = dir.path().join(format!("dem-{gdal_type}.tif"));
+        geotiff::write(&path, &lambert93_grid(), sample).unwrap();
+        let info = gdalinfo(&path);
+        assert_lambert93_geometry(&info);
+        let band = &info["bands"][0];
+        assert_eq!(band["type"], gdal_type, "{band:#}");
+        assert_eq!(band["noDataValue"].as_f64(), Some(-9999.0), "{band:#}");
+        assert_eq!(info["bands"].as_array().unwrap().len(), 1);
+        assert_eq!(info["metadata"][""]["AREA_OR_POINT"], "Area");
+    }
+}
+
+#[test]
+fn gdal_translate_output_reads_back_identically() {
+    if !gdal_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let grid = lambert93_grid();
+    let ours = dir.path().join("ours.tif");
+    // I32 so that GDAL's integer conversions below are exact.
+    geotiff::write(&ours, &grid, SampleType::I32).unwrap();
+    let expected = geotiff::read(&ours).unwrap();
+    assert_eq!(expected.mask(), grid.mask());
+    let variants: &[&[&str]] = &[
+        &[],
+        &["-ot", "Float32", "-co", "COMPRESS=LZW"],
+        &[
+            "-ot",
+            "Float64",
+            "-co",
+            "TILED=YES",
+            "-co",
+            "BLOCKXSIZE=16",
+            "-co",
+            "BLOCKYSIZE=16",
+        ],
+        &[
+            "-ot",
+            "Int16",
+            "-co",
+            "COMPRESS=DEFLATE",
+            "-co",
+            "PREDICTOR=2",
+        ],
+        &["-ot", "Int16", "-mo", "AREA_OR_POINT=Point"],
+        &["-co", "BIGTIFF=YES", "-co", "TILED=YES"],
+    ];
+    for (k, options) in variants.iter().enumerate() {
+        let theirs = dir.path().join(format!("gdal-{k}.tif"));
+        let mut args = vec!["-q", "-of", "GTiff"];
+        args.extend_from_slice(options);
+        args.extend([ours.to_str().unwrap(), theirs.to_str().unwrap()]);
+        run("gdal_translate", &args);
+        let back = geotiff::read(&theirs).unwrap_or_else(|e| panic!("{options:?}: {e}"));
+        assert_eq!(back.geometry(), grid.geometry(), "{options:?}");
+        assert_eq!(back.mask(), expected.mask(), "{options:?}");
+        assert_eq!(back.values(), expected.values(), "{options:?}");
+        assert_eq!(back.crs().and_then(|c| c.epsg), Some(2154), "{options:?}");
+        assert_eq!(back.nodata_value(), Some(-9999.0), "{options:?}");
+    }
+    // Float32 through GDAL keeps the fractional values exactly.
+    let (ours, theirs) = (
+        dir.path().join("ours-f32.tif"),
+        dir.path().join("gdal-f32.tif"),
+    );
+    geotiff::write(&ours, &grid, SampleType::F32).unwrap();
+    run(
+        "gdal_translate",
+        &["-q", ours.to_str().unwrap(), theirs.to_str().unwrap()],
+    );
+    let mut expected = grid.clone();
+    expected.set_nodata_value(Some(-9999.0));
+    assert_eq!(geotiff::read(&theirs).unwrap(), expected);
+    // GDAL puts the directory first: a file cut inside the pixel data must still be an error.
+    let bytes = std::fs::read(dir.path().join("gdal-0.tif")).unwrap();
+    let cut = dir.path().join("cut.tif");
+    std::fs::write(&cut, &bytes[..bytes.len() - 10]).unwrap();
+    let err = geotiff::read(&cut).unwrap_err();
+    assert!(matches!(err, RasterError::Tiff { .. }), "{err}");
+}
+
+#[test]
+fn gdalinfo_reads_our_ascii_grid_and_prj() {
+    if !gdal_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("dem.asc");
+    ascii_grid::write(&path, &lambert93_grid()).unwrap();
+    let info = gdalinfo(&path);
+    assert_lambert93_geometry(&info);
+    assert_eq!(info["bands"][0]["noDataValue"].as_f64(), Some(-9999.0));
+}

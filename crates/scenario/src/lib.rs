@@ -1,0 +1,165 @@
+//! The validated, in-memory description of one simulation: a [`Scenario`].
+//!
+//! Both input forms — a Rockyfor3D input folder and a scenario file (TOML) — are read by
+//! `rockfall-io` into this one type, and the built-in sites of `rockfall-sites` build it
+//! directly. The simulation driver and both engines take their inputs from it; nothing here
+//! touches files. Every per-cell parameter is a [`Field`] (a constant or a raster on the
+//! DEM's grid); every physical quantity carries its unit in its name, SI throughout except
+//! where the input convention is fixed (DBH in cm, net energy in kJ).
+//!
+//! [`Scenario::validate`] checks everything that can be checked without the engines: grids
+//! aligned with the DEM, values in range, release cells and points on the terrain, screens
+//! with at least two vertices, parameters physically meaningful. Errors name the parameter
+//! and, for rasters, the cell; the reader that loaded the scenario adds the file name from
+//! [`Scenario::sources`].
+
+mod error;
+mod params;
+mod release;
+pub mod rock;
+mod summary;
+mod validate;
+
+pub use error::ScenarioError;
+pub use params::{
+    ContactParams, ContactSettings, Engine, LumpedSettings, MohMode, OutputSettings,
+    SimulationSettings, Slippage,
+};
+pub use release::{Release, ReleasePoint};
+pub use rock::{BlockShape, RockShape, RockSpec};
+pub use summary::{FieldRange, Summary};
+
+use rockfall_forest::{Forest, StandCell, StandOptions, Stem};
+use rockfall_raster::Field;
+use rockfall_terrain::Terrain;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// How the forest is given.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ForestSpec {
+    /// Explicit stems (a tree CSV or a Rockyfor3D tree file, or built by a site).
+    Stems(Vec<Stem>),
+    /// Stands per cell, expanded into stems from the scenario's seed.
+    Stands(Box<Stands>),
+}
+
+/// Stand description per cell (Rockyfor3D `nrtrees`, `dbhmean`, `dbhstd`, `conif_percent`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stands {
+    /// Stem density, stems/ha.
+    pub stems_per_ha: Field,
+    /// Mean DBH, cm.
+    pub dbh_mean_cm: Field,
+    /// Standard deviation of DBH, cm.
+    pub dbh_sd_cm: Field,
+    /// Share of conifers, % (0–100).
+    pub conifer_percent: Field,
+    /// Tree height mean and sd, m; `None` → heights from DBH by the allometry of
+    /// `rockfall_forest::height_from_dbh_m`.
+    pub height_m: Option<(f64, f64)>,
+    /// Truncation bounds of the DBH distribution.
+    pub options: StandOptions,
+}
+
+impl Stands {
+    /// The stand of cell (row, col); `None` where any field is nodata.
+    pub fn cell(&self, row: usize, col: usize) -> Option<StandCell> {
+        Some(StandCell {
+            stems_per_ha: self.stems_per_ha.at(row, col)?,
+            dbh_mean_cm: self.dbh_mean_cm.at(row, col)?,
+            dbh_sd_cm: self.dbh_sd_cm.at(row, col)?,
+            conifer_percent: self.conifer_percent.at(row, col)?,
+            height: self.height_m,
+        })
+    }
+
+    /// The named fields.
+    pub fn fields(&self) -> [(&'static str, &Field); 4] {
+        [
+            ("nrtrees", &self.stems_per_ha),
+            ("dbhmean", &self.dbh_mean_cm),
+            ("dbhstd", &self.dbh_sd_cm),
+            ("conif_percent", &self.conifer_percent),
+        ]
+    }
+}
+
+/// Rockfall nets (Rockyfor3D `net_number`, `net_energy`, `net_height`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Nets {
+    /// Net identifier per cell; cells with 0 or nodata hold no net.
+    pub number: Field,
+    /// Energy the net can stop, kJ.
+    pub energy_kj: Field,
+    /// Height of the net, m.
+    pub height_m: Field,
+}
+
+/// An evaluation screen: a polyline in plan view across which passages are recorded.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Screen {
+    /// Name used in outputs.
+    pub name: String,
+    /// Vertices (x, y), m; at least two.
+    pub points_m: Vec<[f64; 2]>,
+}
+
+/// Everything one simulation needs.
+#[derive(Debug, Clone)]
+pub struct Scenario {
+    /// Short name (site name, folder or file stem).
+    pub name: String,
+    /// Which engine runs it.
+    pub engine: Engine,
+    /// Master seed: fixes every random draw (see `rockfall-rng`).
+    pub seed: u64,
+    /// DEM and surface parameters.
+    pub terrain: Terrain,
+    /// Forest, if any.
+    pub forest: Option<ForestSpec>,
+    /// Rockfall nets, if any.
+    pub nets: Option<Nets>,
+    /// The rock.
+    pub rock: RockSpec,
+    /// Where rocks start.
+    pub release: Release,
+    /// Evaluation screens.
+    pub screens: Vec<Screen>,
+    /// Settings of the lumped engine (seed 000).
+    pub lumped: LumpedSettings,
+    /// Contact parameters of the rigid engine (seed 001).
+    pub contact: ContactSettings,
+    /// Time step, limits and numbers of rocks.
+    pub simulation: SimulationSettings,
+    /// What to write.
+    pub output: OutputSettings,
+    /// Parameter name → file it was read from (for error messages and reports).
+    pub sources: BTreeMap<String, PathBuf>,
+    /// Remarks from reading (e.g. ignored files).
+    pub notes: Vec<String>,
+}
+
+impl Scenario {
+    /// The explicit stems: given ones, or stands expanded with the scenario's seed
+    /// (deterministic; see `rockfall_forest::expand_stands`). An empty forest when none.
+    pub fn build_forest(&self) -> Result<Forest, ScenarioError> {
+        let stems = match &self.forest {
+            None => Vec::new(),
+            Some(ForestSpec::Stems(s)) => s.clone(),
+            Some(ForestSpec::Stands(st)) => rockfall_forest::expand_stands(
+                self.terrain.dem.geometry(),
+                |r, c| st.cell(r, c),
+                self.seed,
+                &st.options,
+            )
+            .map_err(ScenarioError::Forest)?,
+        };
+        Forest::new(stems).map_err(ScenarioError::Forest)
+    }
+
+    /// The file a parameter came from, if it came from one.
+    pub fn source_of(&self, parameter: &str) -> Option<&std::path::Path> {
+        self.sources.get(parameter).map(PathBuf::as_path)
+    }
+}

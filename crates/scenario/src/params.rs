@@ -1,0 +1,189 @@
+//! Engine choice and the plain parameter sets of a scenario, with their documented defaults.
+
+use std::fmt;
+use std::str::FromStr;
+
+/// Which engine simulates the rocks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Engine {
+    /// Seed 000: probabilistic lumped-mass model on the raster (RockyFor).
+    #[default]
+    Lumped,
+    /// Seed 001: convex polyhedral rigid bodies with non-smooth contact.
+    Rigid,
+}
+
+impl FromStr for Engine {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "lumped" => Ok(Engine::Lumped),
+            "rigid" => Ok(Engine::Rigid),
+            other => Err(format!(
+                "unknown engine `{other}` (expected lumped or rigid)"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for Engine {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Engine::Lumped => "lumped",
+            Engine::Rigid => "rigid",
+        })
+    }
+}
+
+/// How the mean obstacle height (MOH) of a rebound is chosen (seed 000 §2.5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MohMode {
+    /// Draw rg70 / rg20 / rg10 with probability 0.7 / 0.2 / 0.1 at each rebound (default).
+    #[default]
+    Draw,
+    /// Use the cover-weighted mean `0.7·rg70 + 0.2·rg20 + 0.1·rg10` (seed 000 eq. 4).
+    Mean,
+}
+
+impl FromStr for MohMode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "draw" => Ok(MohMode::Draw),
+            "mean" => Ok(MohMode::Mean),
+            other => Err(format!(
+                "unknown moh mode `{other}` (expected draw or mean)"
+            )),
+        }
+    }
+}
+
+/// Settings of the lumped engine (seed 000 §2.3–2.5).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LumpedSettings {
+    /// MOH per rebound: drawn from the cover classes (default) or their weighted mean.
+    pub moh: MohMode,
+    /// Relative uniform variation of r_t at each rebound (seed 000 §2.5: ±10 % → 0.1).
+    pub rt_variation: f64,
+    /// Largest random reduction of the local slope angle at a rebound, degrees
+    /// (seed 000 §2.5: uniform 0–4°).
+    pub slope_reduction_max_deg: f64,
+    /// Largest lateral deviation of the fall direction after a ground rebound, degrees
+    /// (seed 000 §2.3: 45°).
+    pub max_lateral_deviation_deg: f64,
+    /// A rock slower than this has stopped, m/s (seed 000 §4: 0.1 m/s).
+    pub stop_velocity_ms: f64,
+}
+
+impl Default for LumpedSettings {
+    fn default() -> Self {
+        LumpedSettings {
+            moh: MohMode::Draw,
+            rt_variation: 0.1,
+            slope_reduction_max_deg: 4.0,
+            max_lateral_deviation_deg: 45.0,
+            stop_velocity_ms: 0.1,
+        }
+    }
+}
+
+/// Contact law parameters of one contact type (seed 001 §2: Newton impact law with
+/// restitution ε_N, ε_T and Coulomb friction μ).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactParams {
+    /// Coulomb friction coefficient μ ≥ 0.
+    pub mu: f64,
+    /// Normal restitution ε_N in [0, 1].
+    pub eps_n: f64,
+    /// Tangential restitution ε_T in [0, 1].
+    pub eps_t: f64,
+}
+
+/// RAMMS "slippage" friction for soft ground (Leine et al. 2014):
+/// `μ(s) = μ_min + (2/π)(μ_max − μ_min)·atan(κ s)`, `ṡ = |v|` in contact, `ṡ = −β s` in flight.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Slippage {
+    /// μ at zero slippage.
+    pub mu_min: f64,
+    /// μ approached at large slippage.
+    pub mu_max: f64,
+    /// Decay rate of the slippage in flight, 1/s.
+    pub beta_per_s: f64,
+    /// Slippage scale, 1/m.
+    pub kappa_per_m: f64,
+}
+
+/// Contact parameters of the rigid engine.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactSettings {
+    /// Rock–ground contact (default μ 0.3, ε_N = ε_T = 0).
+    pub ground: ContactParams,
+    /// Rock–tree contact (default μ 0.6, ε_N = ε_T = 0: seed 001 §2, table 1).
+    pub tree: ContactParams,
+    /// Optional slippage friction on the ground (replaces `ground.mu`).
+    pub slippage: Option<Slippage>,
+}
+
+impl Default for ContactSettings {
+    fn default() -> Self {
+        ContactSettings {
+            ground: ContactParams {
+                mu: 0.3,
+                eps_n: 0.0,
+                eps_t: 0.0,
+            },
+            tree: ContactParams {
+                mu: 0.6,
+                eps_n: 0.0,
+                eps_t: 0.0,
+            },
+            slippage: None,
+        }
+    }
+}
+
+/// Time stepping, limits and numbers of rocks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulationSettings {
+    /// Time step of the rigid engine, s (default 0.001).
+    pub dt_s: f64,
+    /// Longest simulated time per rock, s (default 60).
+    pub max_time_s: f64,
+    /// Rocks released per source cell (default 100).
+    pub rocks_per_cell: u64,
+    /// Rocks released per release point (default 1).
+    pub rocks_per_point: u64,
+}
+
+impl Default for SimulationSettings {
+    fn default() -> Self {
+        SimulationSettings {
+            dt_s: 0.001,
+            max_time_s: 60.0,
+            rocks_per_cell: 100,
+            rocks_per_point: 1,
+        }
+    }
+}
+
+/// What a run writes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputSettings {
+    /// Number of trajectories written in full to `trajectories.csv` (default 10).
+    pub trajectories: u64,
+    /// Also write every raster as ESRI ASCII grid (default false: GeoTIFF only).
+    pub ascii_rasters: bool,
+    /// Percentiles of energy and passing height written as rasters, % (default 50, 90, 95,
+    /// 98, 99).
+    pub percentiles: Vec<f64>,
+}
+
+impl Default for OutputSettings {
+    fn default() -> Self {
+        OutputSettings {
+            trajectories: 10,
+            ascii_rasters: false,
+            percentiles: vec![50.0, 90.0, 95.0, 98.0, 99.0],
+        }
+    }
+}

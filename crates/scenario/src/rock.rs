@@ -1,0 +1,252 @@
+//! The rock: shape, dimensions, density.
+
+use rockfall_raster::Field;
+use std::f64::consts::PI;
+use std::path::PathBuf;
+
+/// Block shapes of Rockyfor3D (`blshape` codes 1–4; 0 means "no block").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BlockShape {
+    /// 1: rectangular block (a box d1 × d2 × d3).
+    Rectangular,
+    /// 2: ellipsoid with axes d1, d2, d3.
+    Ellipsoidal,
+    /// 3: sphere (diameter = mean of d1, d2, d3).
+    Spherical,
+    /// 4: disc (elliptic cylinder of thickness d1 and diameters d2, d3).
+    Disc,
+}
+
+impl BlockShape {
+    /// The shape of a `blshape` code; `None` for 0 and anything outside 1–4.
+    pub fn from_code(code: f64) -> Option<Self> {
+        match code {
+            1.0 => Some(BlockShape::Rectangular),
+            2.0 => Some(BlockShape::Ellipsoidal),
+            3.0 => Some(BlockShape::Spherical),
+            4.0 => Some(BlockShape::Disc),
+            _ => None,
+        }
+    }
+
+    /// The `blshape` code.
+    pub fn code(self) -> u8 {
+        match self {
+            BlockShape::Rectangular => 1,
+            BlockShape::Ellipsoidal => 2,
+            BlockShape::Spherical => 3,
+            BlockShape::Disc => 4,
+        }
+    }
+
+    /// Name as used in scenario files.
+    pub fn name(self) -> &'static str {
+        match self {
+            BlockShape::Rectangular => "box",
+            BlockShape::Ellipsoidal => "ellipsoid",
+            BlockShape::Spherical => "sphere",
+            BlockShape::Disc => "disc",
+        }
+    }
+
+    /// Volume of the block with dimensions d1, d2, d3 (m), m³: box d1·d2·d3; ellipsoid
+    /// π/6·d1·d2·d3; sphere π/6·d³ with d the mean dimension; disc π/4·d1·d2·d3.
+    pub fn volume_m3(self, d_m: [f64; 3]) -> f64 {
+        let [a, b, c] = d_m;
+        match self {
+            BlockShape::Rectangular => a * b * c,
+            BlockShape::Ellipsoidal => PI / 6.0 * a * b * c,
+            BlockShape::Spherical => {
+                let d = (a + b + c) / 3.0;
+                PI / 6.0 * d * d * d
+            }
+            BlockShape::Disc => PI / 4.0 * a * b * c,
+        }
+    }
+}
+
+/// Natural rock shapes of seed 001 (table 2), scaled to a requested volume.
+pub const NAMED_SHAPES: [(&str, [f64; 3]); 3] = [
+    ("cubic1.2", [0.38, 0.36, 0.31]),
+    ("flat2.2", [0.48, 0.42, 0.22]),
+    ("long2.2", [0.55, 0.31, 0.25]),
+];
+
+/// Volume of the seed 001 rocks (table 1), m³: the default for named shapes.
+pub const SEED_001_VOLUME_M3: f64 = 0.02;
+
+/// What the rock looks like.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RockShape {
+    /// One block shape everywhere.
+    Block(BlockShape),
+    /// A Rockyfor3D `blshape` raster: a code 1–4 per source cell.
+    PerCell(Field),
+    /// A named natural shape of seed 001 (`cubic1.2`, `flat2.2`, `long2.2`; rigid engine).
+    Named(String),
+    /// A point cloud or mesh file whose convex hull is the rock (rigid engine).
+    File(PathBuf),
+}
+
+impl RockShape {
+    /// Parses a scenario `shape` value: `sphere`, `box` (or `rectangular`), `ellipsoid`,
+    /// `disc`, a named seed 001 shape, or else a file path (anything with an extension).
+    pub fn parse(s: &str) -> Result<RockShape, String> {
+        let lower = s.to_ascii_lowercase();
+        let block = match lower.as_str() {
+            "sphere" | "spherical" => Some(BlockShape::Spherical),
+            "box" | "rectangular" | "cuboid" => Some(BlockShape::Rectangular),
+            "ellipsoid" | "ellipsoidal" => Some(BlockShape::Ellipsoidal),
+            "disc" | "disk" => Some(BlockShape::Disc),
+            _ => None,
+        };
+        if let Some(b) = block {
+            return Ok(RockShape::Block(b));
+        }
+        if NAMED_SHAPES.iter().any(|(n, _)| *n == lower) {
+            return Ok(RockShape::Named(lower));
+        }
+        let ext = std::path::Path::new(s)
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("xyz" | "csv" | "txt" | "obj" | "ply" | "stl") => Ok(RockShape::File(s.into())),
+            _ => Err(format!(
+                "unknown shape `{s}` (expected sphere, box, ellipsoid, disc, cubic1.2, flat2.2, \
+                 long2.2, or a .xyz/.csv/.obj/.ply/.stl file)"
+            )),
+        }
+    }
+
+    /// Short description.
+    pub fn describe(&self) -> String {
+        match self {
+            RockShape::Block(b) => b.name().into(),
+            RockShape::PerCell(_) => "per cell (blshape raster)".into(),
+            RockShape::Named(n) => n.clone(),
+            RockShape::File(p) => format!("hull of {}", p.display()),
+        }
+    }
+}
+
+/// The rock released from every source.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RockSpec {
+    /// Shape.
+    pub shape: RockShape,
+    /// Dimensions d1, d2, d3, m (Rockyfor3D: height, width, length); for a sphere all three
+    /// equal the diameter. Ignored for named and file shapes, which carry their own.
+    pub dims_m: [Field; 3],
+    /// When set, the shape is rescaled to this volume, m³.
+    pub volume_m3: Option<f64>,
+    /// Rock density, kg/m³.
+    pub density_kg_m3: Field,
+}
+
+impl RockSpec {
+    /// A sphere of `diameter_m` and `density_kg_m3`.
+    pub fn sphere(diameter_m: f64, density_kg_m3: f64) -> Self {
+        RockSpec {
+            shape: RockShape::Block(BlockShape::Spherical),
+            dims_m: [
+                Field::Const(diameter_m),
+                Field::Const(diameter_m),
+                Field::Const(diameter_m),
+            ],
+            volume_m3: None,
+            density_kg_m3: Field::Const(density_kg_m3),
+        }
+    }
+
+    /// A named seed 001 shape (`cubic1.2`, …) of `volume_m3` (default 0.02 m³).
+    pub fn named(name: &str, volume_m3: Option<f64>, density_kg_m3: f64) -> Option<Self> {
+        let (n, dims) = NAMED_SHAPES.iter().find(|(n, _)| *n == name)?;
+        Some(RockSpec {
+            shape: RockShape::Named((*n).into()),
+            dims_m: dims.map(Field::Const),
+            volume_m3: Some(volume_m3.unwrap_or(SEED_001_VOLUME_M3)),
+            density_kg_m3: Field::Const(density_kg_m3),
+        })
+    }
+
+    /// Block shape and dimensions at cell (row, col), for the lumped engine; `None` where the
+    /// shape is not a block or a value is missing.
+    pub fn block_at(&self, row: usize, col: usize) -> Option<(BlockShape, [f64; 3])> {
+        let shape = match &self.shape {
+            RockShape::Block(b) => *b,
+            RockShape::PerCell(f) => BlockShape::from_code(f.at(row, col)?)?,
+            _ => return None,
+        };
+        let d = [
+            self.dims_m[0].at(row, col)?,
+            self.dims_m[1].at(row, col)?,
+            self.dims_m[2].at(row, col)?,
+        ];
+        let d = match self.volume_m3 {
+            Some(v) => {
+                let s = (v / shape.volume_m3(d)).cbrt();
+                d.map(|x| x * s)
+            }
+            None => d,
+        };
+        Some((shape, d))
+    }
+}
+
+/// Dimensions (x, y, z) of a named seed 001 shape as listed in its table 2, m.
+pub fn named_dims(name: &str) -> Option<[f64; 3]> {
+    NAMED_SHAPES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, d)| *d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shapes_parse_and_volumes() {
+        assert_eq!(
+            RockShape::parse("Sphere"),
+            Ok(RockShape::Block(BlockShape::Spherical))
+        );
+        assert_eq!(
+            RockShape::parse("flat2.2"),
+            Ok(RockShape::Named("flat2.2".into()))
+        );
+        assert_eq!(
+            RockShape::parse("rocks/r1.obj"),
+            Ok(RockShape::File("rocks/r1.obj".into()))
+        );
+        assert!(
+            RockShape::parse("pyramid")
+                .unwrap_err()
+                .contains("unknown shape")
+        );
+        // seed 000: 0.95 m spheres have ≈ 0.45 m³ (the paper's mean volume is 0.49 m³)
+        let v = BlockShape::Spherical.volume_m3([0.95; 3]);
+        assert!((v - 0.4489).abs() < 1e-3, "{v}");
+        assert_eq!(BlockShape::Rectangular.volume_m3([1.0, 2.0, 3.0]), 6.0);
+        for code in 1..=4 {
+            assert_eq!(
+                BlockShape::from_code(code as f64).map(BlockShape::code),
+                Some(code)
+            );
+        }
+        assert_eq!(BlockShape::from_code(0.0), None);
+    }
+
+    #[test]
+    fn volume_rescales_block_dimensions() {
+        let mut r = RockSpec::sphere(1.0, 2700.0);
+        r.volume_m3 = Some(0.02);
+        let (shape, d) = r.block_at(0, 0).unwrap();
+        assert!((shape.volume_m3(d) - 0.02).abs() < 1e-12);
+        assert!(
+            (d[0] / 2.0 - 0.168).abs() < 1e-3,
+            "seed 001: sphere radius 0.168 m"
+        );
+    }
+}

@@ -1,0 +1,290 @@
+//! What `rockfall check` prints: a summary of a validated scenario.
+
+use crate::{ForestSpec, RockShape, Scenario};
+use rockfall_forest::Forest;
+use rockfall_raster::Field;
+use std::fmt;
+
+/// Range of one per-cell parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldRange {
+    /// Parameter name.
+    pub name: String,
+    /// Unit.
+    pub unit: &'static str,
+    /// Smallest and largest value (`None` when all nodata).
+    pub range: Option<(f64, f64)>,
+    /// Where it came from: a file, or "constant".
+    pub source: String,
+}
+
+/// A summary of a scenario and its forest.
+#[derive(Debug, Clone)]
+pub struct Summary {
+    /// Lines of `key: value` pairs, in print order.
+    pub items: Vec<(String, String)>,
+    /// Parameter ranges.
+    pub fields: Vec<FieldRange>,
+    /// Notes from reading.
+    pub notes: Vec<String>,
+}
+
+impl Summary {
+    /// Summarises `scenario` with its built `forest`.
+    pub fn new(scenario: &Scenario, forest: &Forest) -> Self {
+        let g = scenario.terrain.dem.geometry();
+        let dem = &scenario.terrain.dem;
+        let mut items: Vec<(String, String)> = Vec::new();
+        let mut add = |k: &str, v: String| items.push((k.to_string(), v));
+        add("scenario", scenario.name.clone());
+        add("engine", scenario.engine.to_string());
+        add("seed", scenario.seed.to_string());
+        add(
+            "extent",
+            format!(
+                "x {} – {} m, y {} – {} m ({:.1} × {:.1} m)",
+                g.x_min_m,
+                g.x_max_m(),
+                g.y_min_m,
+                g.y_max_m(),
+                g.x_max_m() - g.x_min_m,
+                g.y_max_m() - g.y_min_m
+            ),
+        );
+        add(
+            "grid",
+            format!(
+                "{} columns × {} rows, cell size {} m",
+                g.ncols, g.nrows, g.cell_size_m
+            ),
+        );
+        add(
+            "crs",
+            dem.crs()
+                .map(|c| c.describe())
+                .unwrap_or_else(|| "unknown (no .prj, no epsg)".into()),
+        );
+        if let Some((lo, hi)) = dem.grid().min_max() {
+            add(
+                "elevation",
+                format!(
+                    "{lo:.2} – {hi:.2} m, {} nodata cells",
+                    dem.grid().nodata_count()
+                ),
+            );
+        }
+        let rel = &scenario.release;
+        let sim = &scenario.simulation;
+        add(
+            "release",
+            format!(
+                "{} source cells × {} rocks, {} points × {} rocks = {} rocks",
+                rel.cells.len(),
+                sim.rocks_per_cell,
+                rel.points.len(),
+                sim.rocks_per_point,
+                rel.cells.len() as u64 * sim.rocks_per_cell
+                    + rel.points.len() as u64 * sim.rocks_per_point
+            ),
+        );
+        add("rock", rock_text(scenario));
+        add("forest", forest_text(scenario, forest));
+        if scenario.nets.is_some() {
+            add("nets", "yes (net_number, net_energy, net_height)".into());
+        }
+        add(
+            "screens",
+            if scenario.screens.is_empty() {
+                "none".into()
+            } else {
+                scenario
+                    .screens
+                    .iter()
+                    .map(|s| format!("{} ({:.1} m)", s.name, polyline_length_m(&s.points_m)))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            },
+        );
+        Summary {
+            items,
+            fields: field_ranges(scenario),
+            notes: scenario.notes.clone(),
+        }
+    }
+}
+
+fn rock_text(s: &Scenario) -> String {
+    let r = &s.rock;
+    let density = range_text(r.density_kg_m3.range(), "kg/m³");
+    match &r.shape {
+        RockShape::Named(_) | RockShape::File(_) => format!(
+            "{}, volume {}, density {density}",
+            r.shape.describe(),
+            r.volume_m3
+                .map(|v| format!("{v} m³"))
+                .unwrap_or_else(|| "as given".into())
+        ),
+        _ => {
+            // block volume and mass over the source cells (or the first cell for points)
+            let g = s.terrain.dem.geometry();
+            let cells: Vec<usize> = if s.release.cells.is_empty() {
+                vec![0]
+            } else {
+                s.release.cells.clone()
+            };
+            let (mut vmin, mut vmax, mut mmin, mut mmax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+            for &i in &cells {
+                let (row, col) = g.row_col(i);
+                if let (Some((shape, d)), Some(rho)) =
+                    (r.block_at(row, col), r.density_kg_m3.at(row, col))
+                {
+                    let v = shape.volume_m3(d);
+                    vmin = vmin.min(v);
+                    vmax = vmax.max(v);
+                    mmin = mmin.min(v * rho);
+                    mmax = mmax.max(v * rho);
+                }
+            }
+            let ok = vmin <= vmax;
+            format!(
+                "{}, volume {}, mass {}, density {density}",
+                r.shape.describe(),
+                if ok {
+                    range_text(Some((vmin, vmax)), "m³")
+                } else {
+                    "n/a".into()
+                },
+                if ok {
+                    range_text(Some((mmin, mmax)), "kg")
+                } else {
+                    "n/a".into()
+                },
+            )
+        }
+    }
+}
+
+fn forest_text(s: &Scenario, forest: &Forest) -> String {
+    let origin = match &s.forest {
+        None => return "none".into(),
+        Some(ForestSpec::Stems(_)) => "explicit stems",
+        Some(ForestSpec::Stands(_)) => "stands expanded from the seed",
+    };
+    let mut t = format!("{} stems ({origin})", forest.len());
+    if let Some((lo, mean, hi)) = forest.dbh_stats_cm() {
+        t += &format!(", DBH {lo:.1} – {hi:.1} cm (mean {mean:.1})");
+    }
+    if let Some((lo, hi)) = forest.height_range_m() {
+        t += &format!(", height {lo:.1} – {hi:.1} m");
+    }
+    if let Some(c) = forest.conifer_share() {
+        t += &format!(", {:.0} % conifers", 100.0 * c);
+    }
+    t
+}
+
+fn range_text(r: Option<(f64, f64)>, unit: &str) -> String {
+    match r {
+        None => "all nodata".into(),
+        Some((lo, hi)) if lo == hi => format!("{} {unit}", sig(lo)),
+        Some((lo, hi)) => format!("{} – {} {unit}", sig(lo), sig(hi)),
+    }
+}
+
+/// Four significant digits, no trailing zeros.
+fn sig(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let mag = v.abs().log10().floor() as i32;
+    if !(-3..6).contains(&mag) {
+        return format!("{v:.3e}");
+    }
+    let decimals = (3 - mag).max(0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+fn field_ranges(s: &Scenario) -> Vec<FieldRange> {
+    let mut out = Vec::new();
+    let mut push = |name: &str, unit: &'static str, f: &Field| {
+        out.push(FieldRange {
+            name: name.into(),
+            unit,
+            range: f.range(),
+            source: s
+                .source_of(name)
+                .map(|p| p.display().to_string())
+                .unwrap_or_else(|| {
+                    if matches!(f, Field::Const(_)) {
+                        "constant".into()
+                    } else {
+                        "built in".into()
+                    }
+                }),
+        });
+    };
+    let t = &s.terrain.surface;
+    push("soiltype", "class", &t.soil_type);
+    if let Some(r) = &t.r_n {
+        push("r_n", "-", r);
+    }
+    push("rg70", "m", &t.rg70_m);
+    push("rg20", "m", &t.rg20_m);
+    push("rg10", "m", &t.rg10_m);
+    push("rock.density_kg_m3", "kg/m³", &s.rock.density_kg_m3);
+    if let RockShape::PerCell(f) = &s.rock.shape {
+        push("rock.blshape", "code", f);
+    }
+    for (i, d) in s.rock.dims_m.iter().enumerate() {
+        push(["rock.d1_m", "rock.d2_m", "rock.d3_m"][i], "m", d);
+    }
+    if let Some(ForestSpec::Stands(st)) = &s.forest {
+        let units = ["stems/ha", "cm", "cm", "%"];
+        for ((name, f), unit) in st.fields().into_iter().zip(units) {
+            push(name, unit, f);
+        }
+    }
+    if let Some(n) = &s.nets {
+        push("net_number", "id", &n.number);
+        push("net_energy", "kJ", &n.energy_kj);
+        push("net_height", "m", &n.height_m);
+    }
+    out
+}
+
+/// Length of a polyline, m.
+pub fn polyline_length_m(points: &[[f64; 2]]) -> f64 {
+    points
+        .windows(2)
+        .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
+        .sum()
+}
+
+impl fmt::Display for Summary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let w = self.items.iter().map(|(k, _)| k.len()).max().unwrap_or(0);
+        for (k, v) in &self.items {
+            writeln!(f, "{k:>w$}  {v}")?;
+        }
+        writeln!(f, "parameters:")?;
+        let nw = self.fields.iter().map(|r| r.name.len()).max().unwrap_or(0);
+        for r in &self.fields {
+            writeln!(
+                f,
+                "  {:<nw$}  {:<24}  {}",
+                r.name,
+                range_text(r.range, r.unit),
+                r.source
+            )?;
+        }
+        for n in &self.notes {
+            writeln!(f, "note: {n}")?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,349 @@
+//! Everything about a scenario that can be checked before simulating.
+
+use crate::{ForestSpec, RockShape, Scenario, ScenarioError};
+use rockfall_raster::{Field, GridGeometry};
+
+type Check = Result<(), ScenarioError>;
+
+impl Scenario {
+    /// Checks alignment, ranges, release, screens and parameters (see the crate docs).
+    /// Surface parameters are checked when the [`rockfall_terrain::Terrain`] is built.
+    pub fn validate(&self) -> Check {
+        let dem = *self.terrain.dem.geometry();
+        self.check_rock(&dem)?;
+        self.check_release(&dem)?;
+        self.check_forest(&dem)?;
+        self.check_nets(&dem)?;
+        self.check_screens()?;
+        self.check_settings()
+    }
+
+    fn check_rock(&self, dem: &GridGeometry) -> Check {
+        let r = &self.rock;
+        aligned("rock.density_kg_m3", &r.density_kg_m3, dem)?;
+        for (i, d) in r.dims_m.iter().enumerate() {
+            aligned(dim_name(i), d, dem)?;
+        }
+        if let RockShape::PerCell(f) = &r.shape {
+            aligned("rock.blshape", f, dem)?;
+            in_range("rock.blshape", f, "a whole number 0–4", |v| {
+                v.fract() == 0.0 && (0.0..=4.0).contains(&v)
+            })?;
+        }
+        in_range(
+            "rock.density_kg_m3",
+            &r.density_kg_m3,
+            "≥ 0 kg/m³",
+            |v| v >= 0.0,
+        )?;
+        for (i, d) in r.dims_m.iter().enumerate() {
+            in_range(dim_name(i), d, "≥ 0 m", |v| v >= 0.0)?;
+        }
+        if let Some(v) = r.volume_m3
+            && !(v > 0.0 && v.is_finite())
+        {
+            return Err(out_of_range("rock.volume_m3", None, v, "> 0 m³"));
+        }
+        // Every source cell needs a usable rock.
+        for &i in &self.release.cells {
+            let (row, col) = dem.row_col(i);
+            let density = r.density_kg_m3.at(row, col).unwrap_or(0.0);
+            if density <= 0.0 {
+                return Err(out_of_range(
+                    "rock.density_kg_m3",
+                    Some((row, col)),
+                    density,
+                    "> 0 kg/m³ in a source cell",
+                ));
+            }
+            if matches!(r.shape, RockShape::Block(_) | RockShape::PerCell(_)) {
+                let Some((_, d)) = r.block_at(row, col) else {
+                    return Err(ScenarioError::invalid(
+                        "rock.blshape",
+                        format!(
+                            "source cell at row {row}, column {col} has no block shape (1–4) or no dimensions"
+                        ),
+                    ));
+                };
+                if let Some(k) = d.iter().position(|x| *x <= 0.0) {
+                    return Err(out_of_range(
+                        dim_name(k),
+                        Some((row, col)),
+                        d[k],
+                        "> 0 m in a source cell",
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn check_release(&self, dem: &GridGeometry) -> Check {
+        let rel = &self.release;
+        if rel.is_empty() {
+            return Err(ScenarioError::NoRelease {
+                hint: "give source cells (rockdensity > 0) or [[release.points]]".into(),
+            });
+        }
+        if let Some(&i) = rel.cells.iter().find(|&&i| i >= dem.len()) {
+            return Err(ScenarioError::invalid(
+                "release.cells",
+                format!("cell index {i} outside the DEM"),
+            ));
+        }
+        for &i in &rel.cells {
+            let (row, col) = dem.row_col(i);
+            let (x, y) = dem.cell_center(row, col);
+            if !self.terrain.dem.contains(x, y) {
+                return Err(ScenarioError::invalid(
+                    "release.cells",
+                    format!(
+                        "source cell at row {row}, column {col} lies on nodata or at the DEM's rim, \
+                         where the terrain surface is not defined"
+                    ),
+                ));
+            }
+        }
+        finite_nonneg("release.height_m", rel.cell_height_m)?;
+        finite3("release.velocity_ms", rel.cell_velocity_ms)?;
+        for (k, p) in rel.points.iter().enumerate() {
+            let name = format!("release.points[{k}]");
+            if !(p.x_m.is_finite() && p.y_m.is_finite() && self.terrain.dem.contains(p.x_m, p.y_m))
+            {
+                return Err(ScenarioError::invalid(
+                    &name,
+                    format!("({}, {}) is not on the terrain surface", p.x_m, p.y_m),
+                ));
+            }
+            finite_nonneg(&format!("{name}.height_m"), p.height_m)?;
+            finite3(&format!("{name}.velocity_ms"), p.velocity_ms)?;
+            finite3(
+                &format!("{name}.angular_velocity_rads"),
+                p.angular_velocity_rads,
+            )?;
+            if let Some(q) = p.orientation_wxyz {
+                let n = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+                if (n - 1.0).abs() >= 1e-3 || n.is_nan() {
+                    return Err(ScenarioError::invalid(
+                        &format!("{name}.orientation_wxyz"),
+                        format!("quaternion norm is {n}, expected 1"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn check_forest(&self, dem: &GridGeometry) -> Check {
+        let Some(ForestSpec::Stands(st)) = &self.forest else {
+            return Ok(());
+        };
+        for (name, f) in st.fields() {
+            aligned(name, f, dem)?;
+        }
+        in_range("nrtrees", &st.stems_per_ha, "≥ 0 stems/ha", |v| v >= 0.0)?;
+        in_range("dbhmean", &st.dbh_mean_cm, "≥ 0 cm", |v| v >= 0.0)?;
+        in_range("dbhstd", &st.dbh_sd_cm, "≥ 0 cm", |v| v >= 0.0)?;
+        in_range("conif_percent", &st.conifer_percent, "0–100 %", |v| {
+            (0.0..=100.0).contains(&v)
+        })?;
+        if let Some((mean, sd)) = st.height_m
+            && !(mean > 1.3 && sd >= 0.0 && mean.is_finite() && sd.is_finite())
+        {
+            return Err(ScenarioError::invalid(
+                "forest.height_mean_m",
+                format!("height {mean} ± {sd} m: mean must exceed breast height (1.3 m), sd ≥ 0"),
+            ));
+        }
+        Ok(())
+    }
+
+    fn check_nets(&self, dem: &GridGeometry) -> Check {
+        let Some(n) = &self.nets else { return Ok(()) };
+        for (name, f) in [
+            ("net_number", &n.number),
+            ("net_energy", &n.energy_kj),
+            ("net_height", &n.height_m),
+        ] {
+            aligned(name, f, dem)?;
+            in_range(name, f, "≥ 0", |v| v >= 0.0)?;
+        }
+        Ok(())
+    }
+
+    fn check_screens(&self) -> Check {
+        let mut names = std::collections::BTreeSet::new();
+        for (k, s) in self.screens.iter().enumerate() {
+            let name = format!("screens[{k}]");
+            if s.name.trim().is_empty() || !names.insert(s.name.as_str()) {
+                return Err(ScenarioError::invalid(
+                    &name,
+                    format!("screen name `{}` is empty or used twice", s.name),
+                ));
+            }
+            if s.points_m.len() < 2 || s.points_m.iter().flatten().any(|v| !v.is_finite()) {
+                return Err(ScenarioError::invalid(
+                    &name,
+                    "a screen needs at least two finite vertices [x_m, y_m]",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn check_settings(&self) -> Check {
+        let l = &self.lumped;
+        let s = &self.simulation;
+        let checks: [(&str, f64, bool, &str); 8] = [
+            (
+                "lumped.rt_variation",
+                l.rt_variation,
+                (0.0..1.0).contains(&l.rt_variation),
+                "0 ≤ x < 1",
+            ),
+            (
+                "lumped.slope_reduction_max_deg",
+                l.slope_reduction_max_deg,
+                (0.0..90.0).contains(&l.slope_reduction_max_deg),
+                "0–90°",
+            ),
+            (
+                "lumped.max_lateral_deviation_deg",
+                l.max_lateral_deviation_deg,
+                (0.0..=180.0).contains(&l.max_lateral_deviation_deg),
+                "0–180°",
+            ),
+            (
+                "lumped.stop_velocity_ms",
+                l.stop_velocity_ms,
+                l.stop_velocity_ms > 0.0 && l.stop_velocity_ms.is_finite(),
+                "> 0 m/s",
+            ),
+            (
+                "simulation.dt_s",
+                s.dt_s,
+                s.dt_s > 0.0 && s.dt_s <= 1.0,
+                "0 < dt ≤ 1 s",
+            ),
+            (
+                "simulation.max_time_s",
+                s.max_time_s,
+                s.max_time_s > 0.0 && s.max_time_s.is_finite(),
+                "> 0 s",
+            ),
+            (
+                "simulation.rocks_per_cell",
+                s.rocks_per_cell as f64,
+                s.rocks_per_cell >= 1,
+                "≥ 1",
+            ),
+            (
+                "simulation.rocks_per_point",
+                s.rocks_per_point as f64,
+                s.rocks_per_point >= 1,
+                "≥ 1",
+            ),
+        ];
+        for (name, value, ok, expected) in checks {
+            if !ok {
+                return Err(out_of_range(name, None, value, expected));
+            }
+        }
+        let c = &self.contact;
+        for (name, p) in [("contact.ground", c.ground), ("contact.tree", c.tree)] {
+            if !(p.mu >= 0.0 && p.mu.is_finite()) {
+                return Err(out_of_range(&format!("{name}.mu"), None, p.mu, "≥ 0"));
+            }
+            for (k, e) in [("eps_n", p.eps_n), ("eps_t", p.eps_t)] {
+                if !(0.0..=1.0).contains(&e) {
+                    return Err(out_of_range(&format!("{name}.{k}"), None, e, "0–1"));
+                }
+            }
+        }
+        if let Some(sl) = c.slippage {
+            let ok = sl.mu_min >= 0.0
+                && sl.mu_max >= sl.mu_min
+                && sl.beta_per_s >= 0.0
+                && sl.kappa_per_m > 0.0
+                && [sl.mu_max, sl.beta_per_s, sl.kappa_per_m]
+                    .iter()
+                    .all(|v| v.is_finite());
+            if !ok {
+                return Err(ScenarioError::invalid(
+                    "contact.slippage",
+                    "need 0 ≤ mu_min ≤ mu_max, beta_per_s ≥ 0, kappa_per_m > 0",
+                ));
+            }
+        }
+        if let Some(&p) = self
+            .output
+            .percentiles
+            .iter()
+            .find(|p| !(**p > 0.0 && **p < 100.0))
+        {
+            return Err(out_of_range(
+                "output.percentiles",
+                None,
+                p,
+                "strictly between 0 and 100",
+            ));
+        }
+        Ok(())
+    }
+}
+
+fn dim_name(i: usize) -> &'static str {
+    ["rock.d1_m", "rock.d2_m", "rock.d3_m"][i]
+}
+
+fn out_of_range(
+    parameter: &str,
+    cell: Option<(usize, usize)>,
+    value: f64,
+    expected: &str,
+) -> ScenarioError {
+    ScenarioError::OutOfRange {
+        parameter: parameter.into(),
+        cell,
+        value,
+        expected: expected.into(),
+    }
+}
+
+fn aligned(parameter: &str, f: &Field, dem: &GridGeometry) -> Check {
+    f.check_aligned(dem)
+        .map_err(|mismatch| ScenarioError::Misaligned {
+            parameter: parameter.into(),
+            mismatch,
+        })
+}
+
+/// Every value of `f` satisfies `ok` (NaN never does).
+fn in_range(parameter: &str, f: &Field, expected: &str, ok: impl Fn(f64) -> bool) -> Check {
+    match f.find(|v| !(v.is_finite() && ok(v))) {
+        None => Ok(()),
+        Some((row, col, value)) => {
+            let cell = matches!(f, Field::Grid(_)).then_some((row, col));
+            Err(out_of_range(parameter, cell, value, expected))
+        }
+    }
+}
+
+fn finite_nonneg(parameter: &str, v: f64) -> Check {
+    if v >= 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(out_of_range(parameter, None, v, "finite and ≥ 0"))
+    }
+}
+
+fn finite3(parameter: &str, v: [f64; 3]) -> Check {
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(())
+    } else {
+        Err(ScenarioError::invalid(
+            parameter,
+            format!("{v:?} is not finite"),
+        ))
+    }
+}

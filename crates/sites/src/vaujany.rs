@@ -1,0 +1,324 @@
+//! The Vaujany experiment slopes of seed 000 (Dorren et al. 2006, §2.1), rebuilt synthetically.
+//!
+//! What the paper gives, and is used as given: mean gradient 38°; spherical rocks of mean
+//! diameter 0.95 m and density 2800 kg/m³; a 2.5 m DEM; evaluation screens 185 m and 235 m
+//! along the slope from the start (site 1); the share of rocks stopped within the first
+//! 223.5 m and the share passing the lower forest road; site 2 forested except its upper 40 m,
+//! 290 stems/ha, DBH 31 ± 21 cm, *Abies alba* 50 %, *Picea abies* 25 %, *Fagus sylvatica* 17 %,
+//! *Acer pseudoplatanus* 4 %; location lat 45°12′, long 6°3′ (placed in Lambert-93, EPSG:2154).
+//!
+//! What the paper does not give, and how it is chosen here (none of it tuned to tables 2–3):
+//! - **Profile**: 11.25 m at 20° above the start (the launch area), 38° for 223.5 m of ground
+//!   down to the lower forest road, the road 5 m wide at 3°, 38° for 60 m of ground below it,
+//!   then a run-out of 30 m at 25° and 40 m at 10° (horizontal lengths). The road's position
+//!   follows from the paper: the shares stopped before 223.5 m, stopped on the road and passed
+//!   it add up to 100 % on site 2 (66 + 13 + 21, §3.1 and §4), so the road begins at 223.5 m.
+//! - **Cross profile**: a shallow gully (lateral slope growing to 8°, width scale 25 m) keeps
+//!   the fall line on the corridor the cameras covered; site 1 is an avalanche track.
+//! - **Soil type** from the measured r_n of seed 000 table 4 (mean r_n 0.26 on site 1, 0.36 on
+//!   site 2): the Rockyfor3D class whose range holds it and whose mean is closest — class 2
+//!   (r_n 0.25–0.31) on site 1, class 4 (0.34–0.42) on site 2; the road is class 3 ("forest
+//!   road").
+//! - **Obstacle heights** from the measured mean r_t of table 4 (0.70 site 1, 0.77 site 2)
+//!   through eq. 3 with R = 0.475 m: MOH = R(1/r_t − 1) = 0.204 m (site 1), 0.142 m (site 2).
+//!   The three cover classes are spread around that mean with 0.7·rg70 + 0.2·rg20 + 0.1·rg10 =
+//!   MOH (eq. 4): site 1, "relatively uniform" (§2.5), 0.17 / 0.25 / 0.35 m; site 2 wider,
+//!   0.10 / 0.20 / 0.32 m. The undisturbed road has 0 / 0.02 / 0.05 m (§4: "on undisturbed
+//!   forest roads … the MOH is very low").
+//! - **Release**: one source cell at the start, rocks 0.5 m above the ground moving 1 m/s
+//!   downslope (pushed over the edge by a caterpillar, §2.1); 10 000 rocks as in the paper.
+//! - **Forest** (site 2): stands expanded into explicit stems with a fixed seed, so the site's
+//!   trees are the same in every run; species drawn by the stated shares, the 4 % the paper
+//!   leaves unnamed as other broadleaves (the mixed montane stand's minor species); no stems on the road; heights from the DBH allometry.
+
+use crate::profile::{Gully, Profile, Section, sample_dem};
+use crate::{SITE_SEED, SiteError};
+use rand::RngExt;
+use rockfall_forest::{Species, StandCell, StandOptions, expand_stands};
+use rockfall_raster::{Crs, Field, Grid, GridGeometry};
+use rockfall_rng::{Purpose, stream};
+use rockfall_scenario::{
+    ContactSettings, Engine, ForestSpec, LumpedSettings, OutputSettings, Release, RockSpec,
+    Scenario, Screen, SimulationSettings,
+};
+use rockfall_terrain::{Dem, SurfaceMap, Terrain};
+use std::collections::BTreeMap;
+
+/// DEM cell size, m (seed 000 §2.1).
+pub const CELL_M: f64 = 2.5;
+/// Mean gradient, degrees (seed 000 §2.1).
+pub const SLOPE_DEG: f64 = 38.0;
+/// Rock diameter, m, and density, kg/m³ (seed 000 §2.1).
+pub const ROCK_DIAMETER_M: f64 = 0.95;
+/// Rock density, kg/m³ (seed 000 §2.1).
+pub const ROCK_DENSITY_KG_M3: f64 = 2800.0;
+/// Ground distance from the start to the upper edge of the lower forest road, m.
+pub const ROAD_START_ALONG_M: f64 = 223.5;
+/// Width of the road, m (horizontal).
+pub const ROAD_WIDTH_M: f64 = 5.0;
+/// Evaluation screens of seed 000 table 3, ground distance from the start, m.
+pub const SCREENS_ALONG_M: [f64; 2] = [185.0, 235.0];
+/// Unforested upper part of site 2, ground distance from the start, m.
+pub const UNFORESTED_TOP_ALONG_M: f64 = 40.0;
+
+const NCOLS: usize = 60;
+const NROWS: usize = 124;
+const X_MIN_M: f64 = 939_350.0; // Lambert-93 near lat 45°12′, long 6°3′
+const Y_MAX_M: f64 = 6_460_400.0;
+/// Horizontal distance of the start below the DEM's top edge (centre of row 4), m.
+const START_D_M: f64 = 11.25;
+const START_COL: usize = 30;
+
+/// Which of the two sites.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Site {
+    /// Site 1: the unforested avalanche track.
+    One,
+    /// Site 2: the forested slope.
+    Two,
+}
+
+fn geometry() -> GridGeometry {
+    GridGeometry {
+        ncols: NCOLS,
+        nrows: NROWS,
+        x_min_m: X_MIN_M,
+        y_min_m: Y_MAX_M - NROWS as f64 * CELL_M,
+        cell_size_m: CELL_M,
+    }
+}
+
+/// The slope profile along the fall line (towards −y).
+pub fn profile() -> Profile {
+    let c = SLOPE_DEG.to_radians().cos();
+    Profile {
+        top_z_m: 1400.0,
+        sections: vec![
+            Section {
+                length_m: START_D_M,
+                slope_deg: 20.0,
+            },
+            Section {
+                length_m: ROAD_START_ALONG_M * c,
+                slope_deg: SLOPE_DEG,
+            },
+            Section {
+                length_m: ROAD_WIDTH_M,
+                slope_deg: 3.0,
+            },
+            Section {
+                length_m: 60.0 * c,
+                slope_deg: SLOPE_DEG,
+            },
+            Section {
+                length_m: 30.0,
+                slope_deg: 25.0,
+            },
+            Section {
+                length_m: 40.0,
+                slope_deg: 10.0,
+            },
+        ],
+    }
+}
+
+/// Horizontal distance below the top edge of a point `along_m` of ground below the start.
+pub fn d_at_along(along_m: f64) -> f64 {
+    profile().horizontal_at_slope_distance(START_D_M, along_m)
+}
+
+/// Builds site 1 or site 2 as a scenario.
+pub fn build(site: Site) -> Result<Scenario, SiteError> {
+    let g = geometry();
+    let axis_x = g.cell_center(0, START_COL).0;
+    let gully = Gully {
+        axis_x_m: axis_x,
+        width_m: 25.0,
+        max_side_slope_deg: 8.0,
+    };
+    let dem_grid = sample_dem(g, &profile(), Some(gully)).with_crs(Some(Crs::from_epsg(2154)));
+    let dem = Dem::new(dem_grid)?;
+
+    let road = (
+        d_at_along(ROAD_START_ALONG_M),
+        d_at_along(ROAD_START_ALONG_M) + ROAD_WIDTH_M,
+    );
+    let on_road = |row: usize| {
+        let d = (row as f64 + 0.5) * CELL_M;
+        d >= road.0 && d <= road.1
+    };
+    let (soil, rg) = match site {
+        Site::One => (2.0, [0.17, 0.25, 0.35]),
+        Site::Two => (4.0, [0.10, 0.20, 0.32]),
+    };
+    let per_row = |slope: f64, road_value: f64| {
+        Field::Grid(Grid::from_fn(g, |row, _| {
+            Some(if on_road(row) { road_value } else { slope })
+        }))
+    };
+    let surface = SurfaceMap {
+        soil_type: per_row(soil, 3.0),
+        r_n: None,
+        rg70_m: per_row(rg[0], 0.0),
+        rg20_m: per_row(rg[1], 0.02),
+        rg10_m: per_row(rg[2], 0.05),
+    };
+    let terrain = Terrain::new(dem, surface)?;
+
+    let start_row = (START_D_M / CELL_M) as usize;
+    let release = Release {
+        cells: vec![g.index(start_row, START_COL)],
+        cell_height_m: 0.5,
+        cell_velocity_ms: [0.0, -1.0, 0.0],
+        points: Vec::new(),
+    };
+    let across = |d: f64, name: &str| Screen {
+        name: name.into(),
+        points_m: vec![[g.x_min_m, Y_MAX_M - d], [g.x_max_m(), Y_MAX_M - d]],
+    };
+    let mut screens = vec![
+        across(d_at_along(SCREENS_ALONG_M[0]), "screen_185m"),
+        across(d_at_along(SCREENS_ALONG_M[1]), "screen_235m"),
+    ];
+    screens.push(across(road.1, "lower_road"));
+
+    let forest = match site {
+        Site::One => None,
+        Site::Two => Some(ForestSpec::Stems(site2_stems(&g, &on_road)?)),
+    };
+    Ok(Scenario {
+        name: match site {
+            Site::One => "vaujany-site1".into(),
+            Site::Two => "vaujany-site2".into(),
+        },
+        engine: Engine::Lumped,
+        seed: 1,
+        terrain,
+        forest,
+        nets: None,
+        rock: RockSpec::sphere(ROCK_DIAMETER_M, ROCK_DENSITY_KG_M3),
+        release,
+        screens,
+        lumped: LumpedSettings::default(),
+        contact: ContactSettings::default(),
+        simulation: SimulationSettings {
+            rocks_per_cell: 10_000,
+            ..SimulationSettings::default()
+        },
+        output: OutputSettings::default(),
+        sources: BTreeMap::new(),
+        notes: Vec::new(),
+    })
+}
+
+/// Site 2's stems: 290 stems/ha, DBH 31 ± 21 cm below the upper 40 m, none on the road;
+/// species by the shares of seed 000 §2.1.
+fn site2_stems(
+    g: &GridGeometry,
+    on_road: &dyn Fn(usize) -> bool,
+) -> Result<Vec<rockfall_forest::Stem>, SiteError> {
+    let forest_top_d = d_at_along(UNFORESTED_TOP_ALONG_M);
+    let cell = |row: usize, _col: usize| {
+        // cells wholly below the unforested top, off the road
+        let d_top_edge = row as f64 * CELL_M;
+        (d_top_edge >= forest_top_d && !on_road(row)).then_some(StandCell {
+            stems_per_ha: 290.0,
+            dbh_mean_cm: 31.0,
+            dbh_sd_cm: 21.0,
+            conifer_percent: 75.0,
+            height: None,
+        })
+    };
+    let mut stems = expand_stands(g, cell, SITE_SEED, &StandOptions::default())?;
+    for (i, s) in stems.iter_mut().enumerate() {
+        let u: f64 = stream(SITE_SEED, Purpose::SiteBuild, &[2, i as u64]).random();
+        s.species = species_share(u);
+    }
+    Ok(stems)
+}
+
+/// Species by cumulative share: Abies 50 %, Picea 25 %, Fagus 17 %, Acer 4 %, unnamed 4 % (as other broadleaves).
+fn species_share(u: f64) -> Species {
+    match u {
+        u if u < 0.50 => Species::AbiesAlba,
+        u if u < 0.75 => Species::PiceaAbies,
+        u if u < 0.92 => Species::FagusSylvatica,
+        u if u < 0.96 => Species::AcerPseudoplatanus,
+        _ => Species::OtherBroadleaf,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn screens_and_road_sit_at_the_paper_distances() {
+        let p = profile();
+        // ground distance from the start to each screen, integrated numerically
+        let ground = |d1: f64| {
+            let n = 20_000;
+            let h = (d1 - START_D_M) / n as f64;
+            (0..n)
+                .map(|k| {
+                    let a = START_D_M + k as f64 * h;
+                    (h * h + (p.z_m(a + h) - p.z_m(a)).powi(2)).sqrt()
+                })
+                .sum::<f64>()
+        };
+        for s in SCREENS_ALONG_M {
+            assert!((ground(d_at_along(s)) - s).abs() < 0.01, "{s}");
+        }
+        assert!((ground(d_at_along(ROAD_START_ALONG_M)) - 223.5).abs() < 0.01);
+        // mean gradient of the slope between start and road is 38°
+        let d0 = START_D_M;
+        let d1 = d_at_along(ROAD_START_ALONG_M);
+        let mean = ((p.z_m(d0) - p.z_m(d1)) / (d1 - d0)).atan().to_degrees();
+        assert!((mean - 38.0).abs() < 1e-9);
+        assert!(p.length_m() <= NROWS as f64 * CELL_M);
+    }
+
+    #[test]
+    fn site2_forest_matches_the_stand_description() {
+        let s = build(Site::Two).unwrap();
+        let f = s.build_forest().unwrap();
+        let stems = f.stems();
+        let g = s.terrain.dem.geometry();
+        let forest_top = Y_MAX_M - d_at_along(UNFORESTED_TOP_ALONG_M);
+        assert!(
+            stems.iter().all(|t| t.y_m < forest_top),
+            "upper 40 m unforested"
+        );
+        // area of forested cells
+        let forested_rows = (0..g.nrows)
+            .filter(|&r| {
+                let d = (r as f64 + 0.5) * CELL_M;
+                let road0 = d_at_along(ROAD_START_ALONG_M);
+                r as f64 * CELL_M >= d_at_along(UNFORESTED_TOP_ALONG_M)
+                    && !(d >= road0 && d <= road0 + ROAD_WIDTH_M)
+            })
+            .count();
+        let area_ha = forested_rows as f64 * g.ncols as f64 * CELL_M * CELL_M / 1e4;
+        let density = stems.len() as f64 / area_ha;
+        // Poisson-like sd ≈ sqrt(n); allow 4 sd
+        let n = 290.0 * area_ha;
+        assert!(
+            (density - 290.0).abs() < 4.0 * n.sqrt() / area_ha,
+            "{density}"
+        );
+        let (_, mean, _) = f.dbh_stats_cm().unwrap();
+        assert!(
+            (mean - 31.0).abs() < 4.0 * 21.0 / (stems.len() as f64).sqrt(),
+            "{mean}"
+        );
+        let abies = stems
+            .iter()
+            .filter(|t| t.species == Species::AbiesAlba)
+            .count() as f64;
+        let p = abies / stems.len() as f64;
+        assert!(
+            (p - 0.5).abs() < 4.0 * (0.25 / stems.len() as f64).sqrt(),
+            "{p}"
+        );
+    }
+}
