@@ -24,6 +24,7 @@ impl From<rockfall_io::InputError> for Failure {
 fn main() -> ExitCode {
     std::panic::set_hook(Box::new(|info| {
         eprintln!("rockfall: internal error (a bug; please report it): {info}");
+        std::process::exit(1);
     }));
     let cli = args::Cli::parse();
     match commands::dispatch(cli.command) {
