@@ -38,17 +38,18 @@ pub enum Command {
         #[arg(long, default_value = "rockfall-out")]
         out: PathBuf,
         /// Engine: `lumped` (seed 000) or `rigid` (seed 001); default: the scenario's.
-        #[arg(long)]
+        #[arg(long, value_parser = ["lumped", "rigid"], ignore_case = true)]
         engine: Option<String>,
-        /// Rocks released per source cell; default: the scenario's (100 for a Rockyfor3D folder).
-        #[arg(long)]
+        /// Rocks released per source cell (≥ 1); default: the scenario's (100 for a Rockyfor3D
+        /// folder).
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
         rocks_per_cell: Option<u64>,
         /// Master seed fixing every random draw; default: the scenario's (1).
         #[arg(long)]
         seed: Option<u64>,
-        /// Worker threads; default: all cores. Results do not depend on it.
-        #[arg(long)]
-        threads: Option<usize>,
+        /// Worker threads (≥ 1); default: all cores. Results do not depend on it.
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        threads: Option<u64>,
     },
     /// Read and validate every input; print extent, cell size, CRS, source cells, stems and
     /// parameter ranges. Exit 2 on any problem.

@@ -62,6 +62,16 @@ fn check(input: &Path) -> Result<(), Failure> {
 }
 
 fn site(name: &str, out: &Path) -> Result<(), Failure> {
+    // Never mix a site with files of another: stale rasters or tree files would be read back.
+    if out.exists() {
+        let empty = std::fs::read_dir(out).is_ok_and(|mut d| d.next().is_none());
+        if !empty {
+            return Err(Failure::BadInput(anyhow!(
+                "{}: exists and is not an empty folder; choose a new output folder",
+                out.display()
+            )));
+        }
+    }
     let scenario = rockfall_sites::build(name).map_err(|e| match e {
         rockfall_sites::SiteError::Unknown(_) => Failure::BadInput(e.into()),
         other => Failure::Internal(other.into()),

@@ -30,12 +30,29 @@ fn main() -> ExitCode {
     match commands::dispatch(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::BadInput(e)) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", message(&e));
             ExitCode::from(2)
         }
         Err(Failure::Internal(e)) => {
-            eprintln!("rockfall: {e:#}");
+            eprintln!("rockfall: {}", message(&e));
             ExitCode::from(1)
         }
     }
+}
+
+/// The error and its causes, joined by `: `. A cause whose text the previous message already
+/// holds is left out: our errors print `path: cause` and also expose that cause as their
+/// source, which `{:#}` would print twice.
+fn message(e: &anyhow::Error) -> String {
+    let mut out = e.to_string();
+    let mut previous = out.clone();
+    for cause in e.chain().skip(1) {
+        let text = cause.to_string();
+        if !previous.contains(&text) {
+            out += ": ";
+            out += &text;
+        }
+        previous = text;
+    }
+    out
 }

@@ -205,7 +205,7 @@ fn read_forest(
         .collect();
     if let Some(path) = files.get(TREEFILE) {
         used.push(TREEFILE.into());
-        sources.insert("forest.treefile".into(), path.clone());
+        sources.insert("forest.trees".into(), path.clone());
         if !present.is_empty() {
             notes.push(format!(
                 "{TREEFILE} given: the stand rasters ({}) are not used",
@@ -215,30 +215,15 @@ fn read_forest(
         }
         return Ok(Some(ForestSpec::Stems(trees::read_treefile(path)?)));
     }
-    if present.is_empty() {
+    let Some([stems, mean, sd, conifer]) = read_group(dir, files, used, sources, STANDS, "stand")?
+    else {
         return Ok(None);
-    }
-    if let Some(missing) = STANDS.iter().find(|n| !present.contains(n)) {
-        return Err(InputError::Missing {
-            path: dir.join(format!("{missing}.asc")),
-            what: format!(
-                "stand raster (the forest rasters {} come together)",
-                STANDS.join(", ")
-            ),
-        });
-    }
-    let mut field = |name: &str| -> Result<Field, InputError> {
-        let key = format!("{name}.asc");
-        let path = &files[&key];
-        used.push(key);
-        sources.insert(name.into(), path.clone());
-        Ok(Field::Grid(ascii_grid::read(path)?))
     };
     Ok(Some(ForestSpec::Stands(Box::new(Stands {
-        stems_per_ha: field("nrtrees")?,
-        dbh_mean_cm: field("dbhmean")?,
-        dbh_sd_cm: field("dbhstd")?,
-        conifer_percent: field("conif_percent")?,
+        stems_per_ha: stems,
+        dbh_mean_cm: mean,
+        dbh_sd_cm: sd,
+        conifer_percent: conifer,
         height_m: None,
         options: StandOptions::default(),
     }))))
@@ -250,33 +235,42 @@ fn read_nets(
     used: &mut Vec<String>,
     sources: &mut BTreeMap<String, PathBuf>,
 ) -> Result<Option<Nets>, InputError> {
-    let present: Vec<&str> = NETS
-        .iter()
-        .copied()
-        .filter(|n| files.contains_key(&format!("{n}.asc")))
-        .collect();
-    if present.is_empty() {
+    let group = read_group(dir, files, used, sources, NETS, "net")?;
+    Ok(group.map(|[number, energy_kj, height_m]| Nets {
+        number,
+        energy_kj,
+        height_m,
+    }))
+}
+
+/// Reads rasters that come together (`{name}.asc` for every name): `None` when none is
+/// present, an error naming the first missing one when only some are.
+fn read_group<const N: usize>(
+    dir: &Path,
+    files: &BTreeMap<String, PathBuf>,
+    used: &mut Vec<String>,
+    sources: &mut BTreeMap<String, PathBuf>,
+    names: [&str; N],
+    what: &str,
+) -> Result<Option<[Field; N]>, InputError> {
+    let key = |n: &str| format!("{n}.asc");
+    if !names.iter().any(|n| files.contains_key(&key(n))) {
         return Ok(None);
     }
-    if let Some(missing) = NETS.iter().find(|n| !present.contains(n)) {
-        return Err(InputError::Missing {
-            path: dir.join(format!("{missing}.asc")),
-            what: format!(
-                "net raster (the net rasters {} come together)",
-                NETS.join(", ")
-            ),
-        });
-    }
-    let mut field = |name: &str| -> Result<Field, InputError> {
-        let key = format!("{name}.asc");
-        let path = &files[&key];
-        used.push(key);
+    let mut fields = Vec::with_capacity(N);
+    for name in names {
+        let Some(path) = files.get(&key(name)) else {
+            return Err(InputError::Missing {
+                path: dir.join(key(name)),
+                what: format!(
+                    "{what} raster (the {what} rasters {} come together)",
+                    names.join(", ")
+                ),
+            });
+        };
+        used.push(key(name));
         sources.insert(name.into(), path.clone());
-        Ok(Field::Grid(ascii_grid::read(path)?))
-    };
-    Ok(Some(Nets {
-        number: field("net_number")?,
-        energy_kj: field("net_energy")?,
-        height_m: field("net_height")?,
-    }))
+        fields.push(Field::Grid(ascii_grid::read(path)?));
+    }
+    Ok(fields.try_into().ok())
 }

@@ -163,7 +163,20 @@ impl Resolver {
             (s, None) => match RockShape::parse(s.unwrap_or("sphere"))
                 .map_err(|m| self.invalid("rock.shape", m))?
             {
-                RockShape::File(p) => RockShape::File(self.path(&p.to_string_lossy())),
+                RockShape::File(p) => {
+                    let path = self.path(&p.to_string_lossy());
+                    if !path.is_file() {
+                        return Err(InputError::Missing {
+                            path,
+                            what: format!(
+                                "rock shape file for `rock.shape` (named in {})",
+                                self.file.display()
+                            ),
+                        });
+                    }
+                    self.sources.insert("rock.shape".into(), path.clone());
+                    RockShape::File(path)
+                }
                 other => other,
             },
         };

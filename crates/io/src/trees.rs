@@ -10,7 +10,7 @@ use std::path::Path;
 /// taken in that order. `species` is a species name or code, `conifer`/`broadleaf`, or a
 /// conifer flag 1/0. A missing height comes from the DBH allometry.
 pub fn read_tree_csv(path: &Path) -> Result<Vec<Stem>, InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
+    let text = read_text(path)?;
     let rows = split_rows(&text, |l| l.split(',').map(str::trim).collect());
     let mut rows = rows.into_iter().peekable();
     let mut cols = Columns::positional();
@@ -34,7 +34,7 @@ pub fn read_tree_csv(path: &Path) -> Result<Vec<Stem>, InputError> {
 /// 0 broadleaf) or a species name. A first line that does not start with a number is a
 /// header and skipped. Heights come from the DBH allometry.
 pub fn read_treefile(path: &Path) -> Result<Vec<Stem>, InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
+    let text = read_text(path)?;
     let rows = split_rows(&text, |l| {
         l.split(|c: char| c.is_whitespace() || c == ',' || c == ';')
             .filter(|t| !t.is_empty())
@@ -89,6 +89,15 @@ pub fn write_treefile(path: &Path, stems: &[Stem]) -> Result<(), InputError> {
         s += &format!("{}\t{}\t{}\t{flag}\n", t.x_m, t.y_m, t.dbh_cm);
     }
     crate::write_text(path, &s)
+}
+
+/// The file's text without a leading byte-order mark (spreadsheets write one).
+fn read_text(path: &Path) -> Result<String, InputError> {
+    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
+    Ok(match text.strip_prefix('\u{feff}') {
+        Some(rest) => rest.to_string(),
+        None => text,
+    })
 }
 
 /// Non-empty, non-comment (`#`) lines as (1-based line number, fields).

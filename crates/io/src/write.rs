@@ -128,8 +128,8 @@ impl Writer {
         let mut t = String::new();
         let _ = writeln!(
             t,
-            "# rockfall scenario `{}`, written by rockfall-io.",
-            s.name
+            "# rockfall scenario {}, written by rockfall-io.",
+            quote(&s.name)
         );
         let _ = writeln!(
             t,
@@ -137,8 +137,10 @@ impl Writer {
         );
         let _ = writeln!(
             t,
-            "name = \"{}\"\nengine = \"{}\"\nseed = {}\n",
-            s.name, s.engine, s.seed
+            "name = {}\nengine = \"{}\"\nseed = {}\n",
+            quote(&s.name),
+            s.engine,
+            s.seed
         );
         t += "[terrain]\ndem = \"dem.asc\"\n";
         if let Some(code) = s.terrain.dem.crs().and_then(|c| c.epsg) {
@@ -158,7 +160,7 @@ impl Writer {
         match &r.shape {
             RockShape::PerCell(f) => t += &self.param("blshape", "blshape.asc", f)?,
             RockShape::File(p) => {
-                let _ = writeln!(t, "shape = \"{}\"", p.display());
+                let _ = writeln!(t, "shape = {}", quote(&p.to_string_lossy()));
             }
             other => {
                 let _ = writeln!(t, "shape = \"{}\"", other.describe());
@@ -227,8 +229,8 @@ impl Writer {
             let pts: Vec<String> = sc.points_m.iter().map(|p| arr(p)).collect();
             let _ = write!(
                 t,
-                "\n[[screens]]\nname = \"{}\"\npoints_m = [{}]\n",
-                sc.name,
+                "\n[[screens]]\nname = {}\npoints_m = [{}]\n",
+                quote(&sc.name),
                 pts.join(", ")
             );
         }
@@ -312,6 +314,27 @@ fn settings_toml(s: &Scenario, t: &mut String) {
         o.ascii_rasters,
         arr(&o.percentiles)
     );
+}
+
+/// A string as a one-line TOML basic string (quotes, backslashes and control characters
+/// escaped), so that names and paths can neither break the file nor a comment line.
+fn quote(s: &str) -> String {
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out += "\\\"",
+            '\\' => out += "\\\\",
+            '\n' => out += "\\n",
+            '\t' => out += "\\t",
+            c if c.is_control() => {
+                let _ = write!(out, "\\u{:04X}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
 }
 
 /// A float as TOML (always with a decimal point or exponent; shortest round-trip form).

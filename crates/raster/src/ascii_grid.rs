@@ -26,8 +26,10 @@ use std::path::{Path, PathBuf};
 pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
     let text = std::fs::read_to_string(path).map_err(|e| RasterError::io(path, e))?;
     let mut grid = parse(&text, path)?;
-    let prj = prj_path(path);
-    if prj.is_file() {
+    let prj = [prj_path(path), path.with_extension("PRJ")]
+        .into_iter()
+        .find(|p| p.is_file());
+    if let Some(prj) = prj {
         let wkt = std::fs::read_to_string(&prj).map_err(|e| RasterError::io(&prj, e))?;
         if !wkt.trim().is_empty() {
             grid.set_crs(Some(Crs::from_wkt(&wkt)));
@@ -40,6 +42,9 @@ pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
 pub fn prj_path(path: &Path) -> PathBuf {
     path.with_extension("prj")
 }
+
+/// Largest grid we read: 2³¹ cells (16 GiB of f64 values).
+pub const MAX_CELLS: usize = 1 << 31;
 
 #[derive(Default)]
 struct Header {
@@ -119,7 +124,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Grid<f64>, RasterError> {
         }
     }
     let geometry = header_geometry(&h, last_line, &header_err)?;
-    let values = parse_values(&mut lines, &geometry, h.nodata, path)?;
+    let values = parse_values(&mut lines, text.len(), &geometry, h.nodata, path)?;
     let mut grid = Grid::from_options(geometry, values).ok_or_else(|| RasterError::Invalid {
         path: path.to_path_buf(),
         message: "internal: value count".into(),
@@ -153,6 +158,12 @@ fn header_geometry(
             format!("empty grid ({ncols} columns × {nrows} rows)"),
         ));
     }
+    if ncols.checked_mul(nrows).is_none_or(|n| n > MAX_CELLS) {
+        return Err(header_err(
+            last_line,
+            format!("grid of {ncols} × {nrows} cells is larger than the {MAX_CELLS} cells we read"),
+        ));
+    }
     if cell <= 0.0 {
         return Err(header_err(
             last_line,
@@ -172,12 +183,15 @@ fn header_geometry(
 
 fn parse_values<'a>(
     lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    text_len: usize,
     geometry: &GridGeometry,
     nodata: Option<f64>,
     path: &Path,
 ) -> Result<Vec<Option<f64>>, RasterError> {
     let expected = geometry.len();
-    let mut values = Vec::with_capacity(expected);
+    // Reserve by what the text can hold (a value takes at least two bytes), so that a header
+    // promising more cells than the file has cannot trigger a huge allocation.
+    let mut values = Vec::with_capacity(expected.min(text_len / 2 + 1));
     let mut last_line = 0;
     for (i, line) in lines {
         let line_no = i + 1;
@@ -358,6 +372,10 @@ mod tests {
         assert!(e.contains("line 2") && e.contains("twice"), "{e}");
         let e = err("ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\nfoo 3\n");
         assert!(e.contains("unknown header key `foo`"), "{e}");
+        let e = err("ncols 4294967296\nnrows 4294967297\nxllcorner 0\nyllcorner 0\ncellsize 1\n");
+        assert!(e.contains("larger than"), "{e}");
+        let e = err("ncols 100000000\nnrows 10\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n");
+        assert!(e.contains("found 2 values"), "{e}");
         let e = err("ncols 2.5\n");
         assert!(e.contains("whole number"), "{e}");
         let e = err("ncols 0\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n");

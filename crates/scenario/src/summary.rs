@@ -83,8 +83,9 @@ impl Summary {
                 sim.rocks_per_cell,
                 rel.points.len(),
                 sim.rocks_per_point,
-                rel.cells.len() as u64 * sim.rocks_per_cell
-                    + rel.points.len() as u64 * sim.rocks_per_point
+                (rel.cells.len() as u64)
+                    .saturating_mul(sim.rocks_per_cell)
+                    .saturating_add((rel.points.len() as u64).saturating_mul(sim.rocks_per_point))
             ),
         );
         add("rock", rock_text(scenario));

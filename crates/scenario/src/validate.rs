@@ -6,9 +6,22 @@ use rockfall_raster::{Field, GridGeometry};
 type Check = Result<(), ScenarioError>;
 
 impl Scenario {
-    /// Checks alignment, ranges, release, screens and parameters (see the crate docs).
+    /// Checks the DEM's CRS (projected, in metres), alignment, ranges, release, screens and
+    /// parameters (see the crate docs).
     /// Surface parameters are checked when the [`rockfall_terrain::Terrain`] is built.
     pub fn validate(&self) -> Check {
+        if let Some(crs) = self.terrain.dem.crs()
+            && crs.is_geographic()
+        {
+            return Err(ScenarioError::invalid(
+                "dem",
+                format!(
+                    "the CRS {} is geographic (degrees), but coordinates and cell sizes must be \
+                     in metres: reproject the DEM to a projected CRS (or remove a wrong .prj)",
+                    crs.describe()
+                ),
+            ));
+        }
         let dem = *self.terrain.dem.geometry();
         self.check_rock(&dem)?;
         self.check_release(&dem)?;
@@ -94,12 +107,12 @@ impl Scenario {
         for &i in &rel.cells {
             let (row, col) = dem.row_col(i);
             let (x, y) = dem.cell_center(row, col);
-            if !self.terrain.dem.contains(x, y) {
+            if !self.terrain.dem.contains(x, y) || self.terrain.surface.cell(row, col).is_none() {
                 return Err(ScenarioError::invalid(
                     "release.cells",
                     format!(
-                        "source cell at row {row}, column {col} lies on nodata or at the DEM's rim, \
-                         where the terrain surface is not defined"
+                        "source cell at row {row}, column {col} lies on or next to nodata \
+                         (DEM or surface parameters), where the terrain is not defined"
                     ),
                 ));
             }
@@ -113,6 +126,24 @@ impl Scenario {
                 return Err(ScenarioError::invalid(
                     &name,
                     format!("({}, {}) is not on the terrain surface", p.x_m, p.y_m),
+                ));
+            }
+            let (row, col) = dem.cell_of(p.x_m, p.y_m).unwrap_or_default();
+            let block = matches!(self.rock.shape, RockShape::Block(_) | RockShape::PerCell(_));
+            if (block && self.rock.block_at(row, col).is_none())
+                || !self
+                    .rock
+                    .density_kg_m3
+                    .at(row, col)
+                    .is_some_and(|d| d > 0.0)
+            {
+                return Err(ScenarioError::invalid(
+                    &name,
+                    format!(
+                        "no usable rock in the cell under ({}, {}) (row {row}, column {col}): \
+                         shape, dimensions or density missing or not positive",
+                        p.x_m, p.y_m
+                    ),
                 ));
             }
             finite_nonneg(&format!("{name}.height_m"), p.height_m)?;

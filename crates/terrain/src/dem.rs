@@ -101,12 +101,9 @@ impl Dem {
     #[inline]
     pub fn patch_at(&self, x_m: f64, y_m: f64) -> Option<BilinearPatch> {
         let g = self.geometry();
-        let u = (x_m - self.x0_m) * self.inv_cell;
-        let v = (y_m - self.y0_m) * self.inv_cell;
         let (max_u, max_v) = ((g.ncols - 1) as f64, (g.nrows - 1) as f64);
-        if !(u >= 0.0 && v >= 0.0 && u <= max_u && v <= max_v) {
-            return None;
-        }
+        let u = snap((x_m - self.x0_m) * self.inv_cell, max_u)?;
+        let v = snap((y_m - self.y0_m) * self.inv_cell, max_v)?;
         // patch index counted from the south-west, the last patch closes the far edge
         let i = (u as usize).min(g.ncols - 2);
         let j = (v as usize).min(g.nrows - 2);
@@ -178,6 +175,15 @@ impl Dem {
     }
 }
 
+/// `t` clamped to [0, max], when it lies inside up to a rounding tolerance (10⁻⁶ of a cell,
+/// far above the rounding of projected coordinates near 10⁷ m, far below any physical scale):
+/// a point computed as an outermost cell centre must not fall off the surface by rounding.
+#[inline]
+fn snap(t: f64, max: f64) -> Option<f64> {
+    const EPS: f64 = 1e-6;
+    (t >= -EPS && t <= max + EPS).then(|| t.clamp(0.0, max))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -224,6 +230,26 @@ mod tests {
         // the outer half-cell rim is outside the surface
         assert_eq!(dem.height_m(100.5, 202.0), None);
         assert_eq!(dem.height_m(102.0, 203.5), None);
+    }
+
+    #[test]
+    fn outermost_centres_are_on_the_surface_despite_rounding() {
+        // an origin and cell size whose centres are not exact in binary
+        let g = GridGeometry {
+            ncols: 7,
+            nrows: 5,
+            x_min_m: 912_345.3,
+            y_min_m: 6_456_789.1,
+            cell_size_m: 0.2,
+        };
+        let dem = Dem::new(Grid::filled(g, 3.0)).unwrap();
+        for row in [0, 4] {
+            for col in [0, 6] {
+                let (x, y) = g.cell_center(row, col);
+                assert_eq!(dem.height_m(x, y), Some(3.0), "cell ({row}, {col})");
+            }
+        }
+        assert_eq!(dem.height_m(g.x_min_m + 0.09, g.y_min_m + 0.5), None);
     }
 
     #[test]

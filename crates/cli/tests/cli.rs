@@ -1,0 +1,273 @@
+//! The `rockfall` binary end to end: exit codes (0 success, 2 bad input, 1 internal or not
+//! yet available), messages naming the file or key, and no panic on bad input.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use std::path::Path;
+use std::process::Command;
+use tempfile::TempDir;
+
+const SITES: [&str; 3] = ["vaujany-site1", "vaujany-site2", "forest-slope-40"];
+
+/// What a run of the binary gave.
+struct Run {
+    code: Option<i32>,
+    stdout: String,
+    stderr: String,
+}
+
+impl std::fmt::Display for Run {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "exit {:?}\n--- stdout\n{}\n--- stderr\n{}",
+            self.code, self.stdout, self.stderr
+        )
+    }
+}
+
+/// Runs `rockfall` with `args` in the working directory `cwd` (the test's own when `None`).
+fn rockfall_in(cwd: Option<&Path>, args: &[&str]) -> Run {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_rockfall"));
+    cmd.args(args);
+    if let Some(dir) = cwd {
+        cmd.current_dir(dir);
+    }
+    let out = cmd.output().unwrap();
+    Run {
+        code: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
+fn rockfall(args: &[&str]) -> Run {
+    rockfall_in(None, args)
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// Asserts success; returns stdout.
+fn ok(run: Run) -> String {
+    assert_eq!(run.code, Some(0), "{run}");
+    run.stdout
+}
+
+/// Asserts exit 2 (bad input), no panic, and every needle in stderr.
+fn bad_input(run: Run, needles: &[&str]) {
+    assert_eq!(run.code, Some(2), "{run}");
+    assert!(!run.stderr.contains("panicked"), "{run}");
+    for n in needles {
+        assert!(run.stderr.contains(n), "expected `{n}` in stderr: {run}");
+    }
+}
+
+/// Writes site `name` with `rockfall site` into a fresh folder; returns (tempdir, site dir).
+fn site(name: &str) -> (TempDir, std::path::PathBuf) {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join(name);
+    let out = ok(rockfall(&["site", name, "--out", s(&dir)]));
+    assert!(out.contains("scenario.toml"), "{out}");
+    (tmp, dir)
+}
+
+#[test]
+fn site_then_check_every_site() {
+    for name in SITES {
+        let (_tmp, dir) = site(name);
+        let out = ok(rockfall(&["check", s(&dir.join("scenario.toml"))]));
+        for key in ["ok", "extent", "cell size", "crs", "release", "forest"] {
+            assert!(out.contains(key), "{name}: no `{key}` in\n{out}");
+        }
+        assert!(out.contains(name), "{out}");
+    }
+}
+
+#[test]
+fn check_accepts_the_rockyfor3d_folder_of_the_vaujany_sites() {
+    for name in ["vaujany-site1", "vaujany-site2"] {
+        let (_tmp, dir) = site(name);
+        let out = ok(rockfall(&["check", s(&dir)]));
+        assert!(out.contains("1 source cells"), "{out}");
+        assert!(out.contains("rockdensity.asc"), "{out}");
+    }
+}
+
+#[test]
+fn check_resolves_paths_against_the_scenario_file_not_the_working_directory() {
+    let (tmp, _dir) = site("vaujany-site2");
+    let elsewhere = tempfile::tempdir().unwrap();
+    // relative to a working directory that is not the scenario's folder
+    ok(rockfall_in(
+        Some(tmp.path()),
+        &["check", "vaujany-site2/scenario.toml"],
+    ));
+    ok(rockfall_in(
+        Some(elsewhere.path()),
+        &["check", s(&tmp.path().join("vaujany-site2/scenario.toml"))],
+    ));
+}
+
+#[test]
+fn check_on_bad_folders_exits_2_naming_the_file() {
+    let (_tmp, dir) = site("vaujany-site1");
+    std::fs::remove_file(dir.join("dem.asc")).unwrap();
+    bad_input(rockfall(&["check", s(&dir)]), &["dem.asc"]);
+
+    let (_tmp, dir) = site("vaujany-site1");
+    std::fs::write(dir.join("soiltype.asc"), "ncols 2\nnrows 2\n").unwrap();
+    bad_input(rockfall(&["check", s(&dir)]), &["soiltype.asc", "line 2"]);
+
+    // forest-slope-40 has no source cells: its folder is not a Rockyfor3D folder
+    let (_tmp, dir) = site("forest-slope-40");
+    bad_input(rockfall(&["check", s(&dir)]), &["rockdensity.asc"]);
+}
+
+#[test]
+fn check_on_missing_or_unreadable_inputs_exits_2() {
+    let tmp = tempfile::tempdir().unwrap();
+    let nowhere = tmp.path().join("nowhere/scenario.toml");
+    bad_input(rockfall(&["check", s(&nowhere)]), &["nowhere"]);
+    let notes = tmp.path().join("notes.txt");
+    std::fs::write(&notes, "hello").unwrap();
+    bad_input(rockfall(&["check", s(&notes)]), &["notes.txt"]);
+    let bad = tmp.path().join("bad.toml");
+    std::fs::write(&bad, "engine = \n").unwrap();
+    bad_input(rockfall(&["check", s(&bad)]), &["bad.toml", "line 1"]);
+}
+
+#[test]
+fn check_on_an_unknown_key_exits_2_naming_it() {
+    let (_tmp, dir) = site("forest-slope-40");
+    let path = dir.join("scenario.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, text.replacen("[rock]\n", "[rock]\ncolour = 1\n", 1)).unwrap();
+    bad_input(rockfall(&["check", s(&path)]), &["scenario.toml", "colour"]);
+}
+
+#[test]
+fn treefile_problems_name_the_treefile() {
+    // Readable stems whose extent overflows: the forest cannot be built.
+    let (_tmp, dir) = site("vaujany-site2");
+    let path = dir.join("treefile.txt");
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    text += "1e308 0 30 1\n-1e308 0 30 1\n";
+    std::fs::write(&path, text).unwrap();
+    bad_input(rockfall(&["check", s(&dir)]), &["treefile.txt"]);
+}
+
+#[test]
+fn huge_rock_counts_do_not_panic() {
+    let (_tmp, dir) = site("vaujany-site1");
+    // three source cells × i64::MAX rocks per cell overflows u64
+    let release = dir.join("release.asc");
+    let mut grid = rockfall_raster::ascii_grid::read(&release).unwrap();
+    for col in 10..13 {
+        grid.set(10, col, 1.0);
+    }
+    rockfall_raster::ascii_grid::write(&release, &grid).unwrap();
+    let path = dir.join("scenario.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let huge = "rocks_per_cell = 9223372036854775807\n";
+    std::fs::write(&path, text.replacen("rocks_per_cell = 10000\n", huge, 1)).unwrap();
+    let out = ok(rockfall(&["check", s(&path)]));
+    assert!(
+        out.contains("4 source cells × 9223372036854775807 rocks"),
+        "{out}"
+    );
+}
+
+#[test]
+fn unknown_site_exits_2() {
+    let tmp = tempfile::tempdir().unwrap();
+    bad_input(
+        rockfall(&["site", "nowhere", "--out", s(&tmp.path().join("x"))]),
+        &["nowhere", "vaujany-site1"],
+    );
+    assert!(!tmp.path().join("x").exists());
+}
+
+#[test]
+fn site_list_names_the_three_sites() {
+    let out = ok(rockfall(&["site", "--list"]));
+    for name in SITES {
+        assert!(out.contains(name), "{out}");
+    }
+}
+
+#[test]
+fn run_is_not_yet_available_but_validates_its_input() {
+    let (_tmp, dir) = site("forest-slope-40");
+    let scenario = dir.join("scenario.toml");
+    let out = tempfile::tempdir().unwrap();
+    let run = rockfall(&["run", s(&scenario), "--out", s(out.path())]);
+    assert_eq!(run.code, Some(1), "{run}");
+    assert!(run.stderr.contains("not yet available"), "{run}");
+
+    std::fs::remove_file(dir.join("dem.asc")).unwrap();
+    bad_input(rockfall(&["run", s(&scenario)]), &["dem.asc"]);
+    bad_input(
+        rockfall(&["run", s(&dir.join("absent.toml"))]),
+        &["absent.toml"],
+    );
+}
+
+#[test]
+fn bad_flags_exit_2() {
+    let (_tmp, dir) = site("forest-slope-40");
+    let scenario = dir.join("scenario.toml");
+    bad_input(
+        rockfall(&["run", s(&scenario), "--engine", "foo"]),
+        &["foo"],
+    );
+    bad_input(
+        rockfall(&["run", s(&scenario), "--rocks-per-cell", "0"]),
+        &["0"],
+    );
+    bad_input(rockfall(&["run", s(&scenario), "--seed", "-3"]), &["-3"]);
+    bad_input(rockfall(&["check"]), &["INPUT"]);
+    bad_input(rockfall(&["site", "vaujany-site1"]), &["--out"]);
+    bad_input(rockfall(&["launch"]), &["launch"]);
+    // a valid engine passes the flag check and reaches the input
+    let run = rockfall(&["run", s(&scenario), "--engine", "rigid"]);
+    assert_eq!(run.code, Some(1), "{run}");
+}
+
+#[test]
+fn every_command_has_help() {
+    let top = ok(rockfall(&["--help"]));
+    let commands = ["demo", "run", "check", "site", "impact-lab", "validate"];
+    for c in commands {
+        assert!(top.contains(c), "{c} missing from\n{top}");
+        let help = ok(rockfall(&[c, "--help"]));
+        assert!(help.contains("Usage: rockfall"), "{c}: {help}");
+    }
+    ok(rockfall(&["--version"]));
+}
+
+#[test]
+fn unreadable_files_are_reported_once() {
+    let (_tmp, dir) = site("vaujany-site1");
+    std::fs::write(dir.join("dem.asc"), b"\xff\xfe not text").unwrap();
+    let run = rockfall(&["check", s(&dir)]);
+    assert_eq!(run.stderr.matches("UTF-8").count(), 1, "{run}");
+    bad_input(run, &["dem.asc"]);
+}
+
+#[test]
+fn site_refuses_to_write_over_other_files() {
+    // a folder holding another site: stale files (a treefile.txt) would be read back
+    let (_tmp, dir) = site("vaujany-site2");
+    bad_input(
+        rockfall(&["site", "vaujany-site1", "--out", s(&dir)]),
+        &["not an empty folder"],
+    );
+    // an --out that is a file
+    let file = dir.join("scenario.toml");
+    bad_input(
+        rockfall(&["site", "vaujany-site1", "--out", s(&file)]),
+        &["scenario.toml", "not an empty folder"],
+    );
+}

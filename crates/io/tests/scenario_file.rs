@@ -1,0 +1,474 @@
+//! Scenario files (TOML): round trip of the built-in sites, the schema's strictness, the
+//! "constant or raster" choice, path resolution and the checks on release and rock.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use rockfall_io::load;
+use rockfall_raster::{Field, Grid, GridGeometry, ascii_grid};
+use rockfall_scenario::{BlockShape, Engine, ForestSpec, RockShape, Scenario};
+use std::path::{Path, PathBuf};
+use tempfile::TempDir;
+
+/// The complete minimal rigid scenario of the README, on [`small_dem`].
+const MINIMAL: &str = r#"engine = "rigid"
+seed = 1
+[terrain]
+dem = "dem.asc"
+[rock]
+shape = "box"
+dims_m = [0.5, 0.5, 0.5]
+density_kg_m3 = 2700
+[[release.points]]
+x_m = 20.0
+y_m = 40.0
+height_m = 0.001
+velocity_ms = [0.0, 0.0, 0.0]
+angular_velocity_rads = [0.0, 0.0, 0.0]
+orientation_wxyz = [1.0, 0.0, 0.0, 0.0]
+[contact.ground]
+mu = 0.3
+eps_n = 0.0
+eps_t = 0.0
+[contact.tree]
+mu = 0.6
+eps_n = 0.0
+eps_t = 0.0
+[simulation]
+dt_s = 0.001
+max_time_s = 60.0
+rocks_per_point = 1
+[output]
+trajectories = 1
+"#;
+
+/// 6 × 6 cells of 10 m from (0, 0): cell centres 5–55 m, so (20, 40) is on the surface.
+fn geometry() -> GridGeometry {
+    GridGeometry {
+        ncols: 6,
+        nrows: 6,
+        x_min_m: 0.0,
+        y_min_m: 0.0,
+        cell_size_m: 10.0,
+    }
+}
+
+/// Writes a raster of constant `v` on [`geometry`] at `dir/name`.
+fn raster(dir: &Path, name: &str, v: f64) {
+    let path = dir.join(name);
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    ascii_grid::write(&path, &Grid::filled(geometry(), v)).unwrap();
+}
+
+/// A plane dipping south (z = y): writes `dir/dem.asc`.
+fn small_dem(dir: &Path) {
+    let g = geometry();
+    let dem = Grid::from_fn(g, |r, c| Some(g.cell_center(r, c).1));
+    ascii_grid::write(&dir.join("dem.asc"), &dem).unwrap();
+}
+
+/// `text` with `from` replaced by `to` (which must occur).
+fn edit(text: &str, from: &str, to: &str) -> String {
+    assert!(text.contains(from), "`{from}` not in the scenario");
+    text.replacen(from, to, 1)
+}
+
+/// `text` with `line` inserted after the line `after`; returns it and the new line's number.
+fn insert_after(text: &str, after: &str, line: &str) -> (String, usize) {
+    let mut lines: Vec<&str> = text.lines().collect();
+    let i = lines.iter().position(|l| *l == after).unwrap();
+    lines.insert(i + 1, line);
+    (lines.join("\n") + "\n", i + 2)
+}
+
+/// Writes `text` as `scenario.toml` beside a [`small_dem`] and loads it by absolute path.
+fn load_text(text: &str) -> (TempDir, Result<Scenario, String>) {
+    let dir = tempfile::tempdir().unwrap();
+    small_dem(dir.path());
+    let path = dir.path().join("scenario.toml");
+    std::fs::write(&path, text).unwrap();
+    let r = load(&path).map_err(|e| e.to_string());
+    (dir, r)
+}
+
+fn loads(text: &str) -> Scenario {
+    let (_dir, r) = load_text(text);
+    r.unwrap_or_else(|e| panic!("should load: {e}"))
+}
+
+/// Asserts the scenario fails with a message holding every needle.
+fn fails(text: &str, needles: &[&str]) {
+    let (_dir, r) = load_text(text);
+    let e = r.err().unwrap_or_else(|| panic!("should fail:\n{text}"));
+    for n in needles {
+        assert!(e.contains(n), "expected `{n}` in: {e}");
+    }
+}
+
+/// True when two fields hold the same constant or the same raster values on the same grid.
+fn same_field(a: &Field, b: &Field) -> bool {
+    match (a, b) {
+        (Field::Const(x), Field::Const(y)) => x == y,
+        (Field::Grid(x), Field::Grid(y)) => {
+            x.geometry() == y.geometry() && x.values() == y.values() && x.mask() == y.mask()
+        }
+        _ => false,
+    }
+}
+
+fn assert_same_field(what: &str, a: &Field, b: &Field) {
+    assert!(same_field(a, b), "{what} differs: {a:?} vs {b:?}");
+}
+
+#[test]
+fn sites_round_trip_through_scenario_files() {
+    for (name, _) in rockfall_sites::SITES {
+        let site = rockfall_sites::build(name).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        rockfall_io::write::write_scenario_dir(&site, dir.path()).unwrap();
+        let s = load(&dir.path().join("scenario.toml")).unwrap_or_else(|e| panic!("{name}: {e}"));
+
+        let (a, b) = (s.terrain.dem.grid(), site.terrain.dem.grid());
+        assert_eq!(a.geometry(), b.geometry(), "{name}");
+        assert_eq!((a.values(), a.mask()), (b.values(), b.mask()), "{name}");
+        let (sa, sb) = (&s.terrain.surface, &site.terrain.surface);
+        for ((n, fa), (_, fb)) in sa.fields().into_iter().zip(sb.fields()) {
+            assert_same_field(&format!("{name} {n}"), fa, fb);
+        }
+        assert_eq!(sa.fields().len(), sb.fields().len());
+
+        assert_eq!(s.release, site.release, "{name}");
+        assert_eq!(s.screens, site.screens, "{name}");
+        let stems = |s: &Scenario| s.build_forest().unwrap().len();
+        assert_eq!(stems(&s), stems(&site), "{name}");
+
+        let (ra, rb) = (&s.rock, &site.rock);
+        match (&ra.shape, &rb.shape) {
+            (RockShape::PerCell(x), RockShape::PerCell(y)) => assert_same_field("blshape", x, y),
+            (x, y) => assert_eq!(x, y, "{name}"),
+        }
+        for (x, y) in ra.dims_m.iter().zip(&rb.dims_m) {
+            assert_same_field(&format!("{name} dims"), x, y);
+        }
+        assert_same_field("density", &ra.density_kg_m3, &rb.density_kg_m3);
+        assert_eq!(ra.volume_m3, rb.volume_m3, "{name}");
+
+        assert_eq!((s.engine, s.seed), (site.engine, site.seed), "{name}");
+        assert_eq!(s.lumped, site.lumped, "{name}");
+        assert_eq!(s.contact, site.contact, "{name}");
+        assert_eq!(s.simulation, site.simulation, "{name}");
+        assert_eq!(s.output, site.output, "{name}");
+    }
+}
+
+#[test]
+fn minimal_rigid_scenario_parses() {
+    let s = loads(MINIMAL);
+    assert_eq!((s.engine, s.seed), (Engine::Rigid, 1));
+    assert_eq!(s.rock.shape, RockShape::Block(BlockShape::Rectangular));
+    assert!(s.rock.dims_m.iter().all(|d| *d == Field::Const(0.5)));
+    assert_eq!(s.rock.density_kg_m3, Field::Const(2700.0));
+    let p = &s.release.points[..];
+    assert_eq!(p.len(), 1);
+    assert_eq!((p[0].x_m, p[0].y_m, p[0].height_m), (20.0, 40.0, 0.001));
+    assert_eq!(p[0].orientation_wxyz, Some([1.0, 0.0, 0.0, 0.0]));
+    assert!(s.release.cells.is_empty());
+    assert_eq!((s.contact.ground.mu, s.contact.tree.mu), (0.3, 0.6));
+    assert_eq!(
+        (s.simulation.rocks_per_point, s.output.trajectories),
+        (1, 1)
+    );
+    // defaults where the file is silent
+    assert_eq!(s.terrain.surface.soil_type, Field::Const(4.0));
+    assert!(s.forest.is_none() && s.nets.is_none() && s.screens.is_empty());
+}
+
+#[test]
+fn unknown_keys_are_errors_naming_key_and_line() {
+    let cases = [
+        ("seed = 1", "colour = 1", "colour"),
+        ("density_kg_m3 = 2700", "colour = 1", "colour"),
+        ("height_m = 0.001", "z_m = 3", "z_m"),
+        ("trajectories = 1", "ascii = true", "ascii"),
+        ("eps_t = 0.0", "eps = 0.5", "eps"),
+    ];
+    for (after, line, key) in cases {
+        let (text, n) = insert_after(MINIMAL, after, line);
+        fails(
+            &text,
+            &[
+                "scenario.toml",
+                &format!("line {n}"),
+                &format!("unknown field `{key}`"),
+            ],
+        );
+    }
+}
+
+#[test]
+fn integers_are_accepted_for_float_keys() {
+    let text = edit(
+        MINIMAL,
+        "[terrain]\n",
+        "[terrain]\nsoiltype = 4\nrg70_m = 0\n",
+    );
+    let text = edit(
+        &text,
+        "shape = \"box\"\ndims_m = [0.5, 0.5, 0.5]",
+        "shape = \"sphere\"\ndiameter_m = 1",
+    );
+    let text = edit(&text, "x_m = 20.0", "x_m = 20");
+    let s = loads(&text);
+    assert_eq!(s.terrain.surface.soil_type, Field::Const(4.0));
+    assert_eq!(s.terrain.surface.rg70_m, Field::Const(0.0));
+    assert!(s.rock.dims_m.iter().all(|d| *d == Field::Const(1.0)));
+    assert_eq!(s.rock.density_kg_m3, Field::Const(2700.0));
+    assert_eq!(s.release.points[0].x_m, 20.0);
+}
+
+#[test]
+fn parameters_are_constants_or_rasters_relative_to_the_scenario_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("case");
+    std::fs::create_dir(&case).unwrap();
+    small_dem(&case);
+    raster(&case, "maps/soil.asc", 3.0);
+    raster(&case, "maps/density.asc", 2650.0);
+    let text = edit(
+        MINIMAL,
+        "dem = \"dem.asc\"\n",
+        "dem = \"dem.asc\"\nsoiltype = \"maps/soil.asc\"\nrg70_m = 0.25\n",
+    );
+    let text = edit(
+        &text,
+        "density_kg_m3 = 2700",
+        "density_kg_m3 = \"maps/density.asc\"",
+    );
+    let path = case.join("scenario.toml");
+    std::fs::write(&path, text).unwrap();
+    // The test's working directory is the crate folder: paths must resolve against `case`.
+    assert_ne!(std::env::current_dir().unwrap(), case);
+    let s = load(&path).unwrap();
+    let grid_value = |f: &Field| f.as_grid().and_then(|g| g.get(2, 2));
+    assert_eq!(grid_value(&s.terrain.surface.soil_type), Some(3.0));
+    assert_eq!(grid_value(&s.rock.density_kg_m3), Some(2650.0));
+    assert_eq!(s.terrain.surface.rg70_m, Field::Const(0.25));
+    assert_eq!(
+        s.source_of("soiltype"),
+        Some(case.join("maps/soil.asc").as_path())
+    );
+    assert_eq!(s.source_of("dem"), Some(case.join("dem.asc").as_path()));
+}
+
+#[test]
+fn missing_and_misaligned_rasters_are_named() {
+    let text = edit(
+        MINIMAL,
+        "[terrain]\n",
+        "[terrain]\nrg10_m = \"nothere.asc\"\n",
+    );
+    fails(&text, &["nothere.asc", "rg10", "missing"]);
+    let text = edit(MINIMAL, "dem = \"dem.asc\"", "dem = \"elsewhere/dem.asc\"");
+    fails(&text, &["elsewhere/dem.asc", "missing"]);
+
+    let dir = tempfile::tempdir().unwrap();
+    small_dem(dir.path());
+    let mut g = geometry();
+    g.nrows = 5;
+    ascii_grid::write(&dir.path().join("soil.asc"), &Grid::filled(g, 3.0)).unwrap();
+    let path = dir.path().join("scenario.toml");
+    let text = edit(
+        MINIMAL,
+        "[terrain]\n",
+        "[terrain]\nsoiltype = \"soil.asc\"\n",
+    );
+    std::fs::write(&path, text).unwrap();
+    let e = load(&path).unwrap_err().to_string();
+    assert!(e.contains("soil.asc") && e.contains("5 rows"), "{e}");
+}
+
+#[test]
+fn release_points_must_be_on_the_terrain_with_a_unit_quaternion() {
+    // outside the DEM, and inside the DEM but outside its outermost cell centres
+    for (x, y) in [("500.0", "40.0"), ("2.0", "40.0"), ("20.0", "-1.0")] {
+        let text = edit(
+            MINIMAL,
+            "x_m = 20.0\ny_m = 40.0",
+            &format!("x_m = {x}\ny_m = {y}"),
+        );
+        fails(
+            &text,
+            &["scenario.toml", "release.points[0]", "not on the terrain"],
+        );
+    }
+    let text = edit(MINIMAL, "[1.0, 0.0, 0.0, 0.0]", "[1.0, 1.0, 0.0, 0.0]");
+    fails(
+        &text,
+        &[
+            "scenario.toml",
+            "release.points[0].orientation_wxyz",
+            "norm",
+        ],
+    );
+    let text = edit(MINIMAL, "height_m = 0.001", "height_m = -1.0");
+    fails(&text, &["release.points[0].height_m", "-1"]);
+    let text = edit(
+        MINIMAL,
+        "velocity_ms = [0.0, 0.0, 0.0]",
+        "velocity_ms = [nan, 0.0, 0.0]",
+    );
+    fails(&text, &["release.points[0].velocity_ms", "not finite"]);
+}
+
+#[test]
+fn bad_choices_are_errors_naming_the_key() {
+    fails(
+        &edit(MINIMAL, "\"rigid\"", "\"foo\""),
+        &["engine", "unknown engine `foo`"],
+    );
+    fails(
+        &edit(MINIMAL, "\"box\"", "\"pyramid\""),
+        &["rock.shape", "pyramid"],
+    );
+    fails(
+        &edit(MINIMAL, "eps_n = 0.0", "eps_n = 1.5"),
+        &["contact.ground.eps_n", "1.5"],
+    );
+    fails(
+        &edit(MINIMAL, "dt_s = 0.001", "dt_s = 0.0"),
+        &["simulation.dt_s"],
+    );
+    fails(
+        &edit(
+            MINIMAL,
+            "dims_m = [0.5, 0.5, 0.5]",
+            "dims_m = [0.5, -0.5, 0.5]",
+        ),
+        &["rock.d2_m"],
+    );
+    fails(&edit(MINIMAL, "seed = 1", "seed = -1"), &["seed", "line 2"]);
+    fails(
+        &edit(MINIMAL, "trajectories = 1", "trajectories = \"all\""),
+        &["trajectories"],
+    );
+}
+
+#[test]
+fn a_forest_is_given_exactly_one_way() {
+    let both = format!("{MINIMAL}[forest]\ntrees_csv = \"trees.csv\"\nstems_per_ha = 300\n");
+    fails(&both, &["forest", "exactly one", "trees_csv"]);
+    let stands = format!(
+        "{MINIMAL}[forest]\nstems_per_ha = 300\ndbh_mean_cm = 30\ndbh_sd_cm = 10\nconifer_percent = 50\n"
+    );
+    let s = loads(&stands);
+    assert!(matches!(s.forest, Some(ForestSpec::Stands(_))));
+    fails(
+        &edit(&stands, "dbh_sd_cm = 10\n", ""),
+        &["forest", "dbh_sd_cm"],
+    );
+    fails(
+        &format!("{MINIMAL}[forest]\ntrees_csv = \"none.csv\"\n"),
+        &["none.csv", "missing"],
+    );
+}
+
+#[test]
+fn tree_csv_errors_name_the_csv_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    small_dem(dir.path());
+    std::fs::write(
+        dir.path().join("trees.csv"),
+        "x_m,y_m,dbh_cm\n10,20,30\n12,22,abc\n",
+    )
+    .unwrap();
+    let path = dir.path().join("scenario.toml");
+    std::fs::write(
+        &path,
+        format!("{MINIMAL}[forest]\ntrees_csv = \"trees.csv\"\n"),
+    )
+    .unwrap();
+    let e = load(&path).unwrap_err().to_string();
+    assert!(
+        e.contains("trees.csv, line 3") && e.contains("`abc`"),
+        "{e}"
+    );
+}
+
+#[test]
+fn rock_files_must_exist() {
+    let text = edit(
+        MINIMAL,
+        "shape = \"box\"\ndims_m = [0.5, 0.5, 0.5]",
+        "shape = \"rocks/r1.obj\"",
+    );
+    fails(&text, &["rocks/r1.obj", "missing"]);
+    let (dir, _) = load_text(MINIMAL);
+    let rocks: PathBuf = dir.path().join("rocks");
+    std::fs::create_dir(&rocks).unwrap();
+    std::fs::write(rocks.join("r1.obj"), "v 0 0 0\n").unwrap();
+    let path = dir.path().join("scenario.toml");
+    std::fs::write(&path, text).unwrap();
+    let s = load(&path).unwrap();
+    assert_eq!(s.rock.shape, RockShape::File(rocks.join("r1.obj")));
+}
+
+#[test]
+fn written_names_are_quoted_as_toml_strings() {
+    let mut s = loads(MINIMAL);
+    s.name = "slope \"B\" \\ north\nsecond\tline\u{7}".into();
+    s.screens.push(rockfall_scenario::Screen {
+        name: "road \"RD 43\"".into(),
+        points_m: vec![[5.0, 20.0], [55.0, 20.0]],
+    });
+    let dir = tempfile::tempdir().unwrap();
+    rockfall_io::write::write_scenario_dir(&s, dir.path()).unwrap();
+    let back = load(&dir.path().join("scenario.toml")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(back.name, s.name);
+    assert_eq!(back.screens, s.screens);
+}
+
+#[test]
+fn a_dem_in_degrees_is_rejected() {
+    let text = edit(
+        MINIMAL,
+        "dem = \"dem.asc\"",
+        "dem = \"dem.asc\"\nepsg = 4326",
+    );
+    fails(&text, &["dem.asc", "geographic", "EPSG:4326"]);
+    let text = edit(
+        MINIMAL,
+        "dem = \"dem.asc\"",
+        "dem = \"dem.asc\"\nepsg = 2056",
+    );
+    assert_eq!(
+        loads(&text).terrain.dem.crs().and_then(|c| c.epsg),
+        Some(2056)
+    );
+}
+
+#[test]
+fn tree_lists_with_a_byte_order_mark_load_every_tree() {
+    let dir = tempfile::tempdir().unwrap();
+    small_dem(dir.path());
+    let bom = "\u{feff}";
+    std::fs::write(
+        dir.path().join("trees.csv"),
+        format!("{bom}x_m,y_m,dbh_cm\n10,20,30\n"),
+    )
+    .unwrap();
+    // without a header, a BOM must not turn the first tree into a skipped header line
+    std::fs::write(
+        dir.path().join("trees.txt"),
+        format!("{bom}10 20 30\n12 22 40\n"),
+    )
+    .unwrap();
+    for (key, file, n) in [("trees_csv", "trees.csv", 1), ("treefile", "trees.txt", 2)] {
+        let path = dir.path().join("scenario.toml");
+        std::fs::write(&path, format!("{MINIMAL}[forest]\n{key} = \"{file}\"\n")).unwrap();
+        let s = load(&path).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let Some(ForestSpec::Stems(stems)) = s.forest else {
+            panic!("{file}: no stems");
+        };
+        assert_eq!(stems.len(), n, "{file}");
+        assert_eq!((stems[0].x_m, stems[0].dbh_cm), (10.0, 30.0), "{file}");
+    }
+}
