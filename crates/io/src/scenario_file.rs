@@ -9,7 +9,7 @@ use rockfall_scenario::{
     OutputSettings, Release, ReleasePoint, RockShape, RockSpec, Scenario, Screen,
     SimulationSettings, Slippage, Stands,
 };
-use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
+use rockfall_terrain::{Dem, SurfaceMap, Terrain};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -149,7 +149,6 @@ impl Resolver {
             rg20_m: self.field("rg20", t.rg20_m, 0.0)?,
             rg10_m: self.field("rg10", t.rg10_m, 0.0)?,
         };
-        debug_assert!(SoilType::new(DEFAULT_SOILTYPE).is_some());
         Terrain::new(dem, surface).map_err(|e| scenario_error(e.into(), &self.sources, &self.file))
     }
 

@@ -58,6 +58,10 @@ struct Writer {
 impl Writer {
     fn grid(&mut self, name: &str, g: &Grid<f64>) -> Result<(), InputError> {
         let p = self.dir.join(name);
+        if self.written.contains(&p) {
+            // the Rockyfor3D set and the scenario file may both name a raster: write it once
+            return Ok(());
+        }
         let g = g.clone().with_crs(self.crs.clone());
         ascii_grid::write(&p, &g)?;
         self.written.push(p);
