@@ -50,6 +50,9 @@ pub enum Command {
         /// Worker threads (≥ 1); default: all cores. Results do not depend on it.
         #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
         threads: Option<u64>,
+        /// Also write every raster as an ESRI ASCII grid (.asc + .prj) for Rockyfor3D users.
+        #[arg(long)]
+        ascii: bool,
     },
     /// Read and validate every input; print extent, cell size, CRS, source cells, stems and
     /// parameter ranges. Exit 2 on any problem.

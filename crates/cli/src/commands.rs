@@ -2,6 +2,7 @@
 
 use crate::Failure;
 use crate::args::Command;
+use crate::simulate;
 use anyhow::anyhow;
 use rockfall_scenario::Summary;
 use std::path::Path;
@@ -17,12 +18,36 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
                 Ok(())
             }
         },
-        Command::Run { input, .. } => {
-            // Validate the input now, so that bad input is reported as such (exit 2).
-            load_checked(&input)?;
-            Err(not_yet("run", "the simulation engines"))
+        Command::Run {
+            input,
+            out,
+            engine,
+            rocks_per_cell,
+            seed,
+            threads,
+            ascii,
+        } => {
+            let (mut scenario, forest) = load_checked(&input)?;
+            if let Some(e) = engine {
+                scenario.engine = e
+                    .parse()
+                    .map_err(|e: String| Failure::BadInput(anyhow!("--engine: {e}")))?;
+            }
+            if let Some(n) = rocks_per_cell {
+                scenario.simulation.rocks_per_cell = n;
+            }
+            if let Some(s) = seed {
+                scenario.seed = s;
+            }
+            let ascii = ascii || scenario.output.ascii_rasters;
+            let threads = simulate::threads(threads);
+            let forest = (!forest.is_empty()).then_some(&forest);
+            let results = simulate::simulate(&scenario, forest, threads, "simulating")?;
+            simulate::write(&results, &out, ascii)?;
+            simulate::print_summary(&format!("{}:", scenario.name), &results);
+            Ok(())
         }
-        Command::Demo { .. } => Err(not_yet("demo", "the lumped engine")),
+        Command::Demo { out } => simulate::demo(&out),
         Command::ImpactLab { .. } => Err(not_yet("impact-lab", "the rigid engine")),
         Command::Validate { .. } => Err(not_yet("validate", "the validation cases")),
     }

@@ -3,6 +3,7 @@
 
 mod args;
 mod commands;
+mod simulate;
 
 use clap::Parser;
 use std::process::ExitCode;

@@ -1,0 +1,239 @@
+//! `rockfall run` and `rockfall demo`: prepare a scenario, simulate it with a progress bar,
+//! write the results.
+
+use crate::Failure;
+use anyhow::anyhow;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rockfall_forest::Forest;
+use rockfall_lumped::{LumpedModel, RunOptions};
+use rockfall_results::{ForestEffect, Layout, Results, RunInfo};
+use rockfall_scenario::{Engine, Scenario};
+use serde_json::{Value, json};
+use std::io::IsTerminal;
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Worker threads: the request, or every core.
+pub fn threads(requested: Option<u64>) -> usize {
+    requested.map_or_else(
+        || std::thread::available_parallelism().map_or(1, |n| n.get()),
+        |n| n as usize,
+    )
+}
+
+/// Simulates `scenario` with `forest` (none: without trees) on `threads` workers.
+pub fn simulate(
+    scenario: &Scenario,
+    forest: Option<&Forest>,
+    threads: usize,
+    label: &str,
+) -> Result<Results, Failure> {
+    if scenario.engine == Engine::Rigid {
+        return Err(Failure::Internal(anyhow!(
+            "the rigid engine is not yet available (issue \"rigid engine\"); run with \
+             `--engine lumped`"
+        )));
+    }
+    let model = LumpedModel::new(scenario, forest).map_err(|e| {
+        let source = scenario
+            .source_of("rockdensity")
+            .or_else(|| scenario.source_of("dem"));
+        let at = source.map_or(String::new(), |p| format!("{}: ", p.display()));
+        Failure::BadInput(anyhow!("{at}{e}"))
+    })?;
+    let layout = Arc::new(layout(scenario));
+    let rocks = model.rocks();
+    let bar = progress_bar(rocks, label);
+    let tick = |n: u64| bar.inc(n);
+    let opts = RunOptions {
+        threads,
+        progress: Some(&tick),
+    };
+    let started = Instant::now();
+    let tally = model
+        .run(layout.clone(), &opts)
+        .map_err(|e| Failure::Internal(e.into()))?;
+    let wall_time_s = started.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    let info = RunInfo {
+        engine: scenario.engine.to_string(),
+        scenario: scenario.name.clone(),
+        seed: scenario.seed,
+        threads,
+        wall_time_s,
+        extra: parameters(scenario, &model),
+    };
+    Ok(Results::new(&layout, tally, info))
+}
+
+/// The tallies' layout for `scenario`.
+fn layout(scenario: &Scenario) -> Layout {
+    let dem = &scenario.terrain.dem;
+    Layout {
+        geometry: *dem.geometry(),
+        crs: dem.crs().cloned(),
+        screens: scenario.screens.clone(),
+        percentiles: scenario.output.percentiles.clone(),
+        trajectories: scenario.output.trajectories,
+    }
+}
+
+/// Engine parameters recorded in `summary.json`.
+fn parameters(scenario: &Scenario, model: &LumpedModel<'_>) -> serde_json::Map<String, Value> {
+    let l = &scenario.lumped;
+    let first = model.sources().first();
+    let v = json!({
+        "moh": format!("{:?}", l.moh).to_lowercase(),
+        "rt_variation": l.rt_variation,
+        "slope_reduction_max_deg": l.slope_reduction_max_deg,
+        "max_lateral_deviation_deg": l.max_lateral_deviation_deg,
+        "stop_velocity_ms": l.stop_velocity_ms,
+        "max_time_s": scenario.simulation.max_time_s,
+        "rocks_per_cell": scenario.simulation.rocks_per_cell,
+        "rocks_per_point": scenario.simulation.rocks_per_point,
+        "source_cells": scenario.release.cells.len(),
+        "release_points": scenario.release.points.len(),
+        "stems": model.stems(),
+        "rock_mass_kg": first.map(|s| s.body.mass_kg),
+        "rock_radius_m": first.map(|s| s.body.radius_m),
+        "tree_energy_units": "seed 000 eq. 2 read as joules (DBH in cm)",
+    });
+    match v {
+        Value::Object(m) => m,
+        _ => serde_json::Map::new(),
+    }
+}
+
+fn progress_bar(total: u64, label: &str) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+    let style = ProgressStyle::with_template(
+        "{prefix} [{bar:30}] {human_pos}/{human_len} rocks, {per_sec}, {eta} left",
+    )
+    .map(|s| s.progress_chars("=> "))
+    .unwrap_or_else(|_| ProgressStyle::default_bar());
+    bar.set_style(style);
+    bar.set_prefix(label.to_string());
+    bar
+}
+
+/// Writes `results` into `out` and prints where.
+pub fn write(results: &Results, out: &Path, ascii: bool) -> Result<(), Failure> {
+    let files = results
+        .write(out, ascii)
+        .map_err(|e| Failure::Internal(e.into()))?;
+    println!("wrote {} files to {}", files.len(), out.display());
+    Ok(())
+}
+
+/// Prints the headline numbers of a run.
+pub fn print_summary(title: &str, results: &Results) {
+    let s = results.summary_json();
+    let f = |v: &Value| v.as_f64().map_or("–".to_string(), |x| format!("{x:.2}"));
+    let pct = |v: &Value| {
+        v.as_f64()
+            .map_or("–".to_string(), |x| format!("{:.1} %", x * 100.0))
+    };
+    println!("{title}");
+    println!(
+        "  {} rocks in {:.2} s ({:.0} trajectories/s on {} threads)",
+        s["rocks"],
+        s["wall_time_s"].as_f64().unwrap_or(0.0),
+        s["trajectories_per_s"].as_f64().unwrap_or(0.0),
+        s["threads"]
+    );
+    println!(
+        "  stopped {}, left the DEM {}",
+        pct(&s["stopped_fraction"]),
+        pct(&s["left_dem_fraction"])
+    );
+    let r = &s["runout_m"];
+    println!(
+        "  run-out p50 {} m, p95 {} m, max {} m",
+        f(&r["p50"]),
+        f(&r["p95"]),
+        f(&r["max"])
+    );
+    let v = &s["max_velocity_ms"];
+    let h = &s["max_jump_height_m"];
+    println!(
+        "  max velocity mean {} m/s, max {} m/s; jump height mean {} m, max {} m",
+        f(&v["mean"]),
+        f(&v["max"]),
+        f(&h["mean"]),
+        f(&h["max"])
+    );
+    println!("  tree impacts per rock {}", f(&s["tree_impacts_per_rock"]));
+    if let Some(screens) = s["screens"].as_array() {
+        for sc in screens {
+            println!(
+                "  screen {}: passed {}, v mean {} m/s, E p95 {} kJ, jump p95 {} m",
+                sc["name"].as_str().unwrap_or("?"),
+                pct(&sc["passed_fraction"]),
+                f(&sc["velocity_ms"]["mean"]),
+                f(&sc["energy_kj"]["p95"]),
+                f(&sc["jump_height_m"]["p95"])
+            );
+        }
+    }
+}
+
+/// `rockfall demo`: vaujany-site2 with and without its forest.
+pub fn demo(out: &Path) -> Result<(), Failure> {
+    let scenario =
+        rockfall_sites::build("vaujany-site2").map_err(|e| Failure::Internal(e.into()))?;
+    let forest = scenario
+        .build_forest()
+        .map_err(|e| Failure::Internal(e.into()))?;
+    let threads = threads(None);
+    println!(
+        "demo: {} — {} rocks from one source cell, {} stems",
+        scenario.name,
+        scenario.simulation.rocks_per_cell,
+        forest.len()
+    );
+    let ascii = scenario.output.ascii_rasters;
+    let with = simulate(&scenario, Some(&forest), threads, "with forest")?;
+    write(&with, out, ascii)?;
+    let without = simulate(&scenario, None, threads, "without forest")?;
+    let bare = out.join("without_forest");
+    write(&without, &bare, ascii)?;
+    let effect = ForestEffect::new(&with, &without);
+    effect
+        .write(out, ascii)
+        .map_err(|e| Failure::Internal(e.into()))?;
+    print_summary("with forest:", &with);
+    print_summary("without forest:", &without);
+    print_effect(&effect.summary_json());
+    println!(
+        "outputs: {} (with forest), {} (without), forest effect in {}",
+        out.display(),
+        bare.display(),
+        out.join("forest_effect.json").display()
+    );
+    Ok(())
+}
+
+fn print_effect(e: &Value) {
+    println!("forest effect (with − without):");
+    for (key, label, unit) in [
+        ("stopped_fraction", "stopped", ""),
+        ("left_dem_fraction", "left the DEM", ""),
+    ] {
+        if let Some(d) = e[key]["difference"].as_f64() {
+            println!("  {label}: {:+.1} percentage points{unit}", d * 100.0);
+        }
+    }
+    if let Some(d) = e["runout_p95_m"]["difference"].as_f64() {
+        println!("  run-out p95: {d:+.1} m");
+    }
+    if let Some(d) = e["reach_probability_pp"]["mean_difference"].as_f64() {
+        println!("  reach probability, mean over reached cells: {d:+.2} percentage points");
+    }
+    if let Some(d) = e["e_95_kj"]["mean_difference"].as_f64() {
+        println!("  E_95, mean over reached cells: {d:+.1} kJ");
+    }
+}

@@ -1,0 +1,45 @@
+//! Throughput of the lumped engine on `vaujany-site2`, with its forest and without, on one
+//! thread and on all cores, in one run so the figures compare as ratios.
+//!
+//! `cargo bench -p rockfall-lumped --bench lumped`
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use rockfall_lumped::{LumpedModel, RunOptions};
+use rockfall_results::Layout;
+use std::hint::black_box;
+use std::sync::Arc;
+
+const ROCKS: u64 = 4000;
+
+fn site2(c: &mut Criterion) {
+    let mut scenario = rockfall_sites::build("vaujany-site2").expect("built-in site");
+    scenario.simulation.rocks_per_cell = ROCKS;
+    let forest = scenario.build_forest().expect("site forest");
+    let layout = Arc::new(Layout {
+        geometry: *scenario.terrain.dem.geometry(),
+        crs: None,
+        screens: scenario.screens.clone(),
+        percentiles: scenario.output.percentiles.clone(),
+        trajectories: 0,
+    });
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut group = c.benchmark_group("vaujany-site2");
+    group.throughput(Throughput::Elements(ROCKS));
+    group.sample_size(10);
+    for (label, forest) in [("forest", Some(&forest)), ("bare", None)] {
+        let model = LumpedModel::new(&scenario, forest).expect("model");
+        for threads in [1, cores] {
+            let opts = RunOptions {
+                threads,
+                progress: None,
+            };
+            group.bench_function(format!("{label}/{threads}-threads"), |b| {
+                b.iter(|| black_box(model.run(layout.clone(), &opts).expect("run")))
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, site2);
+criterion_main!(benches);

@@ -1,0 +1,146 @@
+//! Rolling (seed 000 §2.3: "flying, rolling and bouncing"; model notes: rolling when rebounds
+//! become small, stop below 0.1 m/s).
+//!
+//! A rolling rock keeps its centre R above the ground and moves along the surface. Its
+//! equation of motion is that of a body rolling without slip against a Coulomb-type rolling
+//! resistance: `a = k (g_t − μ_r g n_z û)`, with `g_t` gravity's component in the tangent
+//! plane, `n_z` the vertical component of the surface normal, `û` the direction of motion and
+//! `k = m R² / (m R² + I)` (5/7 for a sphere).
+//!
+//! **Friction law.** Kirkby & Statham (1975) found a rolling rock's friction to grow with the
+//! size of the surface debris relative to the rock. We take `μ_r = MOH / (R + MOH)` with MOH
+//! the cell's mean obstacle height (eq. 4): the same quantity that sets the rebound's r_t,
+//! since `μ_r = 1 − r_t` of eq. 3. A rock of R = 0.475 m on debris of MOH 0.20 m rolls against
+//! μ_r = 0.30 (17°); on a forest road (MOH ≈ 0.01 m), μ_r = 0.02.
+//!
+//! **Stepping.** Each step covers at most a quarter of a cell. The speed comes from the work–
+//! energy balance over the step (gravity's work on the actual height change minus the
+//! resistance over the path length), so the rock never gains energy from the stepping; the
+//! direction is the predicted velocity projected onto the new tangent plane. The rock leaves
+//! the ground (back to flight) when the free parabola would stay above the ground over the
+//! step — at a convex break of slope. It stops when it cannot start from rest (`|g_t| ≤ μ_r g
+//! n_z`), when the resistance consumes all its energy within a step, or when its speed falls
+//! below the stop velocity after it has moved: a rock rocking in a hollow stops at its first
+//! turning point instead of jittering.
+
+use crate::body::RockBody;
+use crate::ground::Ground;
+use crate::{G_MS2, V3};
+
+/// Result of one rolling step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RollStep {
+    /// Moved to `p` with velocity `v` in `dt_s`.
+    Moved {
+        /// New centre position, m.
+        p: V3,
+        /// New velocity, m/s.
+        v: V3,
+        /// Step duration, s.
+        dt_s: f64,
+    },
+    /// Moved to `p` in `dt_s` and stopped there.
+    Stopped {
+        /// Rest position, m.
+        p: V3,
+        /// Step duration, s.
+        dt_s: f64,
+    },
+    /// Cannot start: stays where it is.
+    Stuck,
+    /// The ground falls away faster than the rock would: it flies from where it is.
+    Fly,
+    /// The step would leave the surface.
+    Exit,
+}
+
+/// Longest rolling step, s.
+pub const ROLL_DT_MAX_S: f64 = 0.25;
+
+/// Shortest step on which a take-off is confirmed, s: shorter than this, a rock whose free
+/// parabola stays above the ground really leaves it.
+pub const ROLL_DT_MIN_S: f64 = 2e-3;
+
+/// Parameters of one rolling step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RollInput {
+    /// Rolling resistance μ_r.
+    pub mu_r: f64,
+    /// Stop velocity, m/s.
+    pub stop_ms: f64,
+    /// Whether the rock has moved since its release.
+    pub moved: bool,
+    /// Longest step, s.
+    pub dt_cap_s: f64,
+    /// Whether the step may end in [`RollStep::Fly`].
+    pub allow_fly: bool,
+}
+
+/// Rolling resistance `μ_r = MOH / (R + MOH)` (see the module docs).
+#[inline]
+pub fn rolling_resistance(moh_mean_m: f64, radius_m: f64) -> f64 {
+    moh_mean_m / (radius_m + moh_mean_m)
+}
+
+/// One rolling step from centre `p` (R above the ground) with velocity `v` (tangent).
+pub fn roll_step(ground: &Ground, body: &RockBody, p: V3, v: V3, input: &RollInput) -> RollStep {
+    let RollInput {
+        mu_r,
+        stop_ms,
+        moved,
+        dt_cap_s,
+        allow_fly,
+    } = *input;
+    let r = body.radius_m;
+    let Some(s0) = ground.surface(p.x, p.y) else {
+        return RollStep::Exit;
+    };
+    let n0 = s0.normal();
+    let g_t = V3::new(0.0, 0.0, -G_MS2) + n0 * (G_MS2 * n0.z);
+    let speed = v.norm();
+    let resist = mu_r * G_MS2 * n0.z;
+    let dir = match v.unit() {
+        Some(u) if speed > 1e-9 => u,
+        _ => {
+            if g_t.norm() <= resist {
+                return RollStep::Stuck;
+            }
+            g_t.unit().unwrap_or(V3::new(1.0, 0.0, 0.0))
+        }
+    };
+    let k = body.rolling_factor();
+    let a = (g_t - dir * resist) * k;
+    let h = ground.cell_size_m();
+    let dt = (0.25 * h / speed.max(0.5)).min(dt_cap_s);
+    let v_pred = v + a * dt;
+    let step = (v + v_pred) * (0.5 * dt);
+    let (x1, y1) = (p.x + step.x, p.y + step.y);
+    let Some(s1) = ground.surface(x1, y1) else {
+        return RollStep::Exit;
+    };
+    // free parabola over the same horizontal step: above the ground → the rock flies
+    let z_free = p.z + v.z * dt - 0.5 * G_MS2 * dt * dt;
+    if allow_fly && speed > 1e-9 && z_free > s1.z_m + r + 1e-9 {
+        return RollStep::Fly;
+    }
+    let p1 = V3::new(x1, y1, s1.z_m + r);
+    let dz = p1.z - p.z;
+    let path = (step.x * step.x + step.y * step.y + dz * dz).sqrt();
+    let n1 = s1.normal();
+    let nz = 0.5 * (n0.z + n1.z);
+    let v2 = speed * speed + 2.0 * k * (-G_MS2 * dz - mu_r * G_MS2 * nz * path);
+    if v2 <= 0.0 {
+        return RollStep::Stopped { p: p1, dt_s: dt };
+    }
+    let speed1 = v2.sqrt();
+    if moved && speed1 < stop_ms {
+        return RollStep::Stopped { p: p1, dt_s: dt };
+    }
+    let tangent = v_pred - n1 * v_pred.dot(n1);
+    let u1 = tangent.unit().unwrap_or(dir);
+    RollStep::Moved {
+        p: p1,
+        v: u1 * speed1,
+        dt_s: dt,
+    }
+}

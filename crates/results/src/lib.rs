@@ -1,0 +1,203 @@
+//! What a run produces, shared by both engines.
+//!
+//! An engine simulates rocks one after another on each worker thread and reports what happens
+//! to a per-worker [`Tally`]: a rock starts, visits cells, hits trees, crosses screens, ends.
+//! Tallies hold bounded-memory statistics only (counts, fixed-point sums, maxima, fixed-bin
+//! histograms), so memory does not grow with the number of rocks, and merging two tallies is
+//! exact integer arithmetic: the merged result is bit-identical whatever the order of merging,
+//! hence whatever the thread count.
+//!
+//! [`Results::new`] turns the merged tally into rasters (named as Rockyfor3D users know them),
+//! `summary.json` and `trajectories.csv`; [`Results::write`] writes them atomically.
+//! [`ForestEffect`] compares a run with the forest to the same run without it.
+//! [`ScreenSet`] finds where a rock's plan-view path crosses the evaluation screens.
+//!
+//! # Statistics and their accuracy
+//!
+//! - Sums are of values quantised to integers (mJ for energies; µm, µm/s, µs for heights,
+//!   speeds, distances and times) in `u128`; means are exact up to that quantisation.
+//!   Values are cleaned first: NaN and negative → 0, above 10¹² → 10¹².
+//! - Maxima are exact (`f64::max`).
+//! - Percentiles come from log-spaced histograms with 32 bins per decade: energies
+//!   1 J … 10¹⁰ J (320 bins), passing / jump heights and speeds 10⁻³ … 10³ m, m/s
+//!   (192 bins), runouts and times 10⁻³ … 10⁵ m, s (256 bins), each with an underflow
+//!   bin (below the range, 0 included) and an overflow bin. Inside a range a percentile is
+//!   within [`PERCENTILE_RELATIVE_ERROR`] (10^(1/32) − 1 ≈ 7.46 %) of the exact
+//!   nearest-rank value; below it within the lower bound (1 J, 1 mm) in absolute terms;
+//!   percentiles are clamped to the exact maximum.
+//!
+//! # Memory
+//!
+//! Per tally: 4 bytes per grid cell, plus for every cell something happened in 160 bytes of
+//! counters (in a list that may hold up to as much again in spare capacity) and, once
+//! visited, its energy and passing-height histograms ((322 + 194) × 4 = 2 064 bytes, one
+//! heap block) and 4 bytes per distinct source cell that reached it: ≈ 2.2–2.4 kB per
+//! visited cell, whatever the number of rocks. Per-screen and per-rock statistics are a few
+//! kB in all. Only the recorded trajectories (rocks with `rock_id < Layout::trajectories`)
+//! grow with the number of rocks.
+
+mod cells;
+mod forest_effect;
+mod hist;
+mod results;
+mod screens;
+mod summary;
+mod tally;
+mod write;
+
+pub use forest_effect::ForestEffect;
+pub use hist::PERCENTILE_RELATIVE_ERROR;
+pub use results::{Results, RunInfo};
+pub use screens::ScreenSet;
+pub use tally::Tally;
+pub use write::{ResultsError, TRAJECTORY_HEADER};
+
+use rockfall_raster::{Crs, GridGeometry};
+use rockfall_scenario::Screen;
+
+/// What the tallies need to know about the run before it starts.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    /// The DEM's grid: every cell index below is row-major on it.
+    pub geometry: GridGeometry,
+    /// CRS written into the rasters.
+    pub crs: Option<Crs>,
+    /// Evaluation screens, in scenario order.
+    pub screens: Vec<Screen>,
+    /// Energy percentiles written as `E_<p>` rasters (e.g. 50, 90, 95, 98, 99); `E_95` and
+    /// `Ph_95` are always written.
+    pub percentiles: Vec<f64>,
+    /// Rocks with `rock_id < trajectories` have their trajectory recorded.
+    pub trajectories: u64,
+}
+
+/// A rock leaves its release position.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RockStart {
+    /// Global rock number, 0-based, in release order (source cells, then points).
+    pub rock_id: u64,
+    /// Row-major index of the cell the rock is released from.
+    pub source_cell: usize,
+    /// Release position of the rock centre, m.
+    pub x_m: f64,
+    /// Release position, m.
+    pub y_m: f64,
+    /// Release position, m.
+    pub z_m: f64,
+}
+
+/// One visit of a rock to a cell: the maxima over the time it spent in the cell.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellVisit {
+    /// Largest kinetic energy (translational + rotational), J.
+    pub energy_j: f64,
+    /// Largest translational speed, m/s.
+    pub velocity_ms: f64,
+    /// Largest passing height: vertical height of the rock centre above the ground, m.
+    pub passing_height_m: f64,
+}
+
+/// A rock crossing an evaluation screen.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScreenCrossing {
+    /// Translational speed at the crossing, m/s.
+    pub velocity_ms: f64,
+    /// Kinetic energy (translational + rotational) at the crossing, J.
+    pub energy_j: f64,
+    /// Vertical height of the rock centre above the ground at the crossing, m.
+    pub jump_height_m: f64,
+}
+
+/// How a rock's run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    /// Came to rest inside the DEM, in this cell.
+    Stopped {
+        /// Row-major cell index.
+        cell: usize,
+    },
+    /// Stopped by a net in this cell.
+    NetStopped {
+        /// Row-major cell index.
+        cell: usize,
+    },
+    /// Left the DEM (or reached a nodata cell).
+    LeftDem,
+    /// Still moving at the scenario's `max_time_s`.
+    TimeLimit,
+    /// The engine gave up on this rock (non-finite or exploding state).
+    Failed,
+}
+
+/// A rock's run is over.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RockEnd {
+    /// How it ended.
+    pub outcome: Outcome,
+    /// End position, m.
+    pub x_m: f64,
+    /// End position, m.
+    pub y_m: f64,
+    /// Horizontal distance from release to end point, m.
+    pub runout_m: f64,
+    /// Largest translational speed over the run, m/s.
+    pub max_velocity_ms: f64,
+    /// Largest vertical height of the rock centre above the ground, m.
+    pub max_jump_height_m: f64,
+    /// Tree impacts.
+    pub tree_impacts: u32,
+    /// Stems broken by this rock.
+    pub stems_broken: u32,
+    /// Ground rebounds.
+    pub rebounds: u32,
+    /// Simulated time, s.
+    pub time_s: f64,
+}
+
+/// What a trajectory row records (`trajectories.csv` column `event`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Event {
+    /// In flight (or a regular time step of the rigid engine).
+    Flight,
+    /// A ground impact (rebound).
+    Impact,
+    /// Rolling or sliding on the ground.
+    Roll,
+    /// A tree impact.
+    Tree,
+    /// Final state.
+    Stop,
+}
+
+/// One recorded state of a trajectory (`trajectories.csv`, columns as in `product.md`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrajectoryRow {
+    /// Rock number.
+    pub rock_id: u64,
+    /// Time since release, s.
+    pub t_s: f64,
+    /// Centre position, m.
+    pub x_m: f64,
+    /// Centre position, m.
+    pub y_m: f64,
+    /// Centre position, m.
+    pub z_m: f64,
+    /// Velocity, m/s.
+    pub vx_ms: f64,
+    /// Velocity, m/s.
+    pub vy_ms: f64,
+    /// Velocity, m/s.
+    pub vz_ms: f64,
+    /// Angular velocity, world frame, rad/s.
+    pub wx_rads: f64,
+    /// Angular velocity, world frame, rad/s.
+    pub wy_rads: f64,
+    /// Angular velocity, world frame, rad/s.
+    pub wz_rads: f64,
+    /// Translational kinetic energy, J.
+    pub e_trans_j: f64,
+    /// Rotational kinetic energy, J.
+    pub e_rot_j: f64,
+    /// What happened.
+    pub event: Event,
+}

@@ -1,0 +1,213 @@
+//! The merged outcome of a run: rasters, summary and trajectories.
+
+use rockfall_raster::{Grid, SampleType};
+
+use crate::cells::CellStats;
+use crate::{Layout, Tally, TrajectoryRow};
+
+/// Nodata marker written into the float rasters.
+pub(crate) const NODATA: f64 = -9999.0;
+
+/// What the run was, beside what its tally holds.
+#[derive(Debug, Clone, Default)]
+pub struct RunInfo {
+    /// Engine name: `"lumped"` or `"rigid"`.
+    pub engine: String,
+    /// Scenario name.
+    pub scenario: String,
+    /// Master seed.
+    pub seed: u64,
+    /// Worker threads used.
+    pub threads: usize,
+    /// Wall-clock time of the simulation, s.
+    pub wall_time_s: f64,
+    /// Engine parameters etc., written under the key `parameters` of `summary.json`.
+    pub extra: serde_json::Map<String, serde_json::Value>,
+}
+
+/// One raster of [`Results`]: what it shows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Kind {
+    Passages,
+    Reach,
+    Deposited,
+    Sources,
+    EnergyMean,
+    EnergyPercentile(f64),
+    HeightMean,
+    Height95,
+    VelocityMax,
+    TreeImpacts,
+    TreeHeightMax,
+    StemsBroken,
+}
+
+impl Kind {
+    /// Counts are written as 32-bit integers and are 0 (never nodata) where nothing happened.
+    pub(crate) fn is_count(self) -> bool {
+        matches!(
+            self,
+            Kind::Passages
+                | Kind::Deposited
+                | Kind::Sources
+                | Kind::TreeImpacts
+                | Kind::StemsBroken
+        )
+    }
+}
+
+/// The result of a run: the merged tally turned into rasters (named as Rockyfor3D users know
+/// them), `summary.json` and `trajectories.csv`.
+///
+/// Everything but `threads`, `wall_time_s` and `trajectories_per_s` of the summary is a pure
+/// function of the merged tally, hence identical whatever the thread count.
+#[derive(Debug, Clone)]
+pub struct Results {
+    pub(crate) layout: Layout,
+    pub(crate) tally: Tally,
+    pub(crate) info: RunInfo,
+    pub(crate) rows: Vec<TrajectoryRow>,
+}
+
+/// `E_<p>` raster name: `E_95` for 95, `E_99.5` for 99.5.
+pub(crate) fn percentile_name(prefix: &str, p: f64) -> String {
+    format!("{prefix}_{p}")
+}
+
+impl Results {
+    /// The results of a run on `layout` whose merged tally is `tally`. Trajectory rows are
+    /// sorted by rock id, then in the order they were recorded.
+    pub fn new(layout: &Layout, mut tally: Tally, info: RunInfo) -> Results {
+        let mut rows = std::mem::take(&mut tally.rows);
+        rows.sort_by_key(|&(rock, seq, _)| (rock, seq));
+        Results {
+            layout: layout.clone(),
+            tally,
+            info,
+            rows: rows.into_iter().map(|(_, _, r)| r).collect(),
+        }
+    }
+
+    /// What the run was.
+    pub fn info(&self) -> &RunInfo {
+        &self.info
+    }
+
+    /// Rocks simulated (ended).
+    pub fn rocks(&self) -> u64 {
+        self.tally.rocks()
+    }
+
+    /// The recorded trajectory rows, sorted by rock id, then time of recording.
+    pub fn trajectories(&self) -> &[TrajectoryRow] {
+        &self.rows
+    }
+
+    /// The energy percentiles written as `E_<p>` rasters: the layout's valid ones (0 ..= 100)
+    /// and 95, ascending, without duplicates.
+    pub(crate) fn energy_percentiles(&self) -> Vec<f64> {
+        let mut ps: Vec<f64> = (self.layout.percentiles.iter().copied())
+            .filter(|p| (0.0..=100.0).contains(p))
+            .chain([95.0])
+            .collect();
+        ps.sort_by(f64::total_cmp);
+        ps.dedup_by(|a, b| percentile_name("E", *a) == percentile_name("E", *b));
+        ps
+    }
+
+    /// Every raster, in writing order.
+    pub(crate) fn kinds(&self) -> Vec<(String, Kind)> {
+        let mut v = vec![
+            ("Nr_passages".to_string(), Kind::Passages),
+            ("Reach_probability".into(), Kind::Reach),
+            ("Nr_deposited".into(), Kind::Deposited),
+            ("Nr_sourcecells".into(), Kind::Sources),
+            ("E_mean".into(), Kind::EnergyMean),
+        ];
+        for p in self.energy_percentiles() {
+            v.push((percentile_name("E", p), Kind::EnergyPercentile(p)));
+        }
+        v.extend([
+            ("Ph_mean".into(), Kind::HeightMean),
+            ("Ph_95".into(), Kind::Height95),
+            ("V_max".into(), Kind::VelocityMax),
+            ("Nr_tree_impacts".into(), Kind::TreeImpacts),
+            ("Tree_impact_height_max".into(), Kind::TreeHeightMax),
+            ("Nr_stems_broken".into(), Kind::StemsBroken),
+        ]);
+        v
+    }
+
+    /// Names of every raster, in writing order: `Nr_passages`, `Reach_probability`,
+    /// `Nr_deposited`, `Nr_sourcecells`, `E_mean`, `E_<p>` (ascending, `E_95` always),
+    /// `Ph_mean`, `Ph_95`, `V_max`, `Nr_tree_impacts`, `Tree_impact_height_max`,
+    /// `Nr_stems_broken`.
+    pub fn raster_names(&self) -> Vec<String> {
+        self.kinds().into_iter().map(|(n, _)| n).collect()
+    }
+
+    /// The raster called `name` (a Rockyfor3D name, see [`Results::raster_names`]), on the
+    /// layout's grid and with its CRS; `None` for an unknown name.
+    ///
+    /// Units: `Reach_probability` % of the rocks; `E_mean`, `E_<p>` kJ (over visits);
+    /// `Ph_mean`, `Ph_95`, `Tree_impact_height_max` m; `V_max` m/s; the others are counts
+    /// (0 where nothing happened). The non-count rasters are nodata where no rock passed (no
+    /// tree was hit, for `Tree_impact_height_max`). Percentiles come from log histograms:
+    /// within 7.5 % of the exact nearest-rank value (see [`crate::PERCENTILE_RELATIVE_ERROR`]).
+    pub fn raster(&self, name: &str) -> Option<Grid<f64>> {
+        let (_, kind) = self.kinds().into_iter().find(|(n, _)| n == name)?;
+        Some(self.grid(kind))
+    }
+
+    /// Sample type a raster is written with: `I32` for counts (`F64` should a count exceed
+    /// the `i32` range), `F32` for the others.
+    pub(crate) fn sample_type(kind: Kind, grid: &Grid<f64>) -> SampleType {
+        match kind.is_count() {
+            false => SampleType::F32,
+            true if grid
+                .min_max()
+                .is_some_and(|(_, hi)| hi > f64::from(i32::MAX)) =>
+            {
+                SampleType::F64
+            }
+            true => SampleType::I32,
+        }
+    }
+
+    pub(crate) fn grid(&self, kind: Kind) -> Grid<f64> {
+        let rocks = self.rocks();
+        let value = |c: Option<&CellStats>| -> Option<f64> {
+            let visited = c.filter(|c| c.visits > 0);
+            match kind {
+                Kind::Passages => Some(c.map_or(0, |c| c.visits) as f64),
+                Kind::Reach => Some(match (c, rocks) {
+                    (Some(c), 1..) => c.reached as f64 / rocks as f64 * 100.0,
+                    _ => 0.0,
+                }),
+                Kind::Deposited => Some(c.map_or(0, |c| c.deposited) as f64),
+                Kind::Sources => Some(c.map_or(0, |c| c.sources.len()) as f64),
+                Kind::EnergyMean => visited?.energy_mean_j().map(|e| e / 1e3),
+                Kind::EnergyPercentile(p) => visited?.energy_percentile_j(p).map(|e| e / 1e3),
+                Kind::HeightMean => visited?.height_mean_m(),
+                Kind::Height95 => visited?.height_percentile_m(95.0),
+                Kind::VelocityMax => visited.map(|c| c.velocity_max_ms),
+                Kind::TreeImpacts => Some(c.map_or(0, |c| c.tree_impacts) as f64),
+                Kind::TreeHeightMax => c
+                    .filter(|c| c.tree_impacts > 0)
+                    .map(|c| c.tree_height_max_m),
+                Kind::StemsBroken => Some(c.map_or(0, |c| c.stems_broken) as f64),
+            }
+        };
+        let geometry = self.layout.geometry;
+        let cells = (0..geometry.len())
+            .map(|i| value(self.tally.cells.get(i)))
+            .collect();
+        let mut grid = Grid::from_options(geometry, cells)
+            .unwrap_or_else(|| Grid::filled(geometry, 0.0))
+            .with_crs(self.layout.crs.clone());
+        if !kind.is_count() {
+            grid.set_nodata_value(Some(NODATA));
+        }
+        grid
+    }
+}

@@ -1,0 +1,222 @@
+//! The per-worker accumulator.
+
+use std::sync::Arc;
+
+use crate::cells::CellTable;
+use crate::hist::{LENGTH_SCALE, LONG_AXIS, SHORT_AXIS, Stat};
+use crate::screens::ScreenStats;
+use crate::{CellVisit, Layout, Outcome, RockEnd, RockStart, ScreenCrossing, TrajectoryRow};
+
+/// The rock being simulated.
+#[derive(Debug, Clone, Copy)]
+struct Current {
+    rock_id: u64,
+    /// `rock_id + 1`: what the per-cell and per-screen "last rock" markers hold.
+    key: u64,
+    source: u32,
+    records: bool,
+    /// Rows recorded for this rock so far.
+    seq: u64,
+}
+
+/// Per-rock statistics (over ended rocks).
+#[derive(Debug, Clone)]
+pub(crate) struct RockStats {
+    /// Rocks per outcome: stopped, net_stopped, left_dem, time_limit, failed.
+    pub(crate) outcomes: [u64; 5],
+    /// Runout, m.
+    pub(crate) runout: Stat,
+    /// Each rock's largest speed, m/s.
+    pub(crate) max_velocity: Stat,
+    /// Each rock's largest jump height, m.
+    pub(crate) max_jump: Stat,
+    /// Simulated time, s.
+    pub(crate) time: Stat,
+    /// Sum of tree impacts.
+    pub(crate) tree_impacts: u64,
+    /// Sum of stems broken.
+    pub(crate) stems_broken: u64,
+    /// Sum of ground rebounds.
+    pub(crate) rebounds: u64,
+}
+
+/// Index of an outcome in [`RockStats::outcomes`].
+pub(crate) fn outcome_index(o: &Outcome) -> usize {
+    match o {
+        Outcome::Stopped { .. } => 0,
+        Outcome::NetStopped { .. } => 1,
+        Outcome::LeftDem => 2,
+        Outcome::TimeLimit => 3,
+        Outcome::Failed => 4,
+    }
+}
+
+impl RockStats {
+    fn new() -> RockStats {
+        RockStats {
+            outcomes: [0; 5],
+            runout: Stat::new(&LONG_AXIS, LENGTH_SCALE),
+            max_velocity: Stat::new(&SHORT_AXIS, LENGTH_SCALE),
+            max_jump: Stat::new(&SHORT_AXIS, LENGTH_SCALE),
+            time: Stat::new(&LONG_AXIS, LENGTH_SCALE),
+            tree_impacts: 0,
+            stems_broken: 0,
+            rebounds: 0,
+        }
+    }
+
+    fn merge(&mut self, o: &RockStats) {
+        for (a, b) in self.outcomes.iter_mut().zip(&o.outcomes) {
+            *a += b;
+        }
+        self.runout.merge(&o.runout);
+        self.max_velocity.merge(&o.max_velocity);
+        self.max_jump.merge(&o.max_jump);
+        self.time.merge(&o.time);
+        self.tree_impacts += o.tree_impacts;
+        self.stems_broken += o.stems_broken;
+        self.rebounds += o.rebounds;
+    }
+
+    /// Rocks ended.
+    pub(crate) fn rocks(&self) -> u64 {
+        self.outcomes.iter().sum()
+    }
+}
+
+/// What one worker thread accumulates: bounded-memory statistics of the rocks it simulated
+/// (per cell, per screen, per rock) and the recorded trajectory rows.
+///
+/// Use: for each rock, [`Tally::begin_rock`], then any number of [`Tally::cell_visit`],
+/// [`Tally::tree_impact`], [`Tally::screen_crossing`] and [`Tally::record`], then
+/// [`Tally::end_rock`]. Events outside `begin_rock … end_rock` are ignored (and assert in
+/// debug builds); cell and screen indices out of range are ignored. A rock must be simulated
+/// entirely by one tally. When all rocks are done, [`Tally::merge`] the tallies in any order:
+/// the result is bit-identical.
+///
+/// Memory: 4 bytes per grid cell, plus per touched cell the statistics described in the
+/// crate documentation (≈ 2.2–2.4 kB per visited cell), plus the recorded rows; nothing per
+/// rock.
+#[derive(Debug, Clone)]
+pub struct Tally {
+    layout: Arc<Layout>,
+    current: Option<Current>,
+    pub(crate) cells: CellTable,
+    pub(crate) screens: Vec<ScreenStats>,
+    pub(crate) rock: RockStats,
+    /// (rock id, sequence number within the rock, row) of recorded rocks.
+    pub(crate) rows: Vec<(u64, u64, TrajectoryRow)>,
+}
+
+impl Tally {
+    /// An empty tally for a run on `layout`.
+    pub fn new(layout: Arc<Layout>) -> Tally {
+        Tally {
+            cells: CellTable::new(layout.geometry.len()),
+            screens: (0..layout.screens.len())
+                .map(|_| ScreenStats::new())
+                .collect(),
+            rock: RockStats::new(),
+            current: None,
+            rows: Vec::new(),
+            layout,
+        }
+    }
+
+    /// The layout this tally was made for.
+    pub fn layout(&self) -> &Arc<Layout> {
+        &self.layout
+    }
+
+    /// A rock leaves its release position; the events that follow belong to it.
+    pub fn begin_rock(&mut self, start: RockStart) {
+        debug_assert!(self.current.is_none(), "begin_rock before end_rock");
+        self.current = Some(Current {
+            rock_id: start.rock_id,
+            key: start.rock_id.wrapping_add(1),
+            source: u32::try_from(start.source_cell).unwrap_or(u32::MAX),
+            records: start.rock_id < self.layout.trajectories,
+            seq: 0,
+        });
+    }
+
+    fn active(&self) -> Option<Current> {
+        debug_assert!(
+            self.current.is_some(),
+            "event outside begin_rock … end_rock"
+        );
+        self.current
+    }
+
+    /// True when the current rock's trajectory is recorded (`rock_id < layout.trajectories`).
+    pub fn records(&self) -> bool {
+        self.current.is_some_and(|c| c.records)
+    }
+
+    /// Records one trajectory state of the current rock; a no-op unless [`Tally::records`].
+    pub fn record(&mut self, row: TrajectoryRow) {
+        if let Some(c) = self.current.as_mut().filter(|c| c.records) {
+            self.rows.push((c.rock_id, c.seq, row));
+            c.seq += 1;
+        }
+    }
+
+    /// The current rock visited `cell` (row-major index); `visit` holds its maxima while
+    /// there. Report every cell the rock is in, the release and the final cell included.
+    pub fn cell_visit(&mut self, cell: usize, visit: CellVisit) {
+        if let Some(c) = self.active() {
+            self.cells.visit(cell, c.key, c.source, &visit);
+        }
+    }
+
+    /// The current rock hit a tree standing in `cell` at `impact_height_m` above the ground
+    /// (m); `stem_broken` when the stem broke.
+    pub fn tree_impact(&mut self, cell: usize, impact_height_m: f64, stem_broken: bool) {
+        if self.active().is_some() {
+            self.cells.tree_impact(cell, impact_height_m, stem_broken);
+        }
+    }
+
+    /// The current rock crossed screen number `screen` (index in `layout.screens`).
+    pub fn screen_crossing(&mut self, screen: usize, crossing: ScreenCrossing) {
+        if let Some(c) = self.active()
+            && let Some(s) = self.screens.get_mut(screen)
+        {
+            s.add(c.key, &crossing);
+        }
+    }
+
+    /// The current rock's run is over.
+    pub fn end_rock(&mut self, end: RockEnd) {
+        debug_assert!(self.current.is_some(), "end_rock without begin_rock");
+        self.current = None;
+        if let Outcome::Stopped { cell } | Outcome::NetStopped { cell } = end.outcome {
+            self.cells.deposit(cell);
+        }
+        let r = &mut self.rock;
+        r.outcomes[outcome_index(&end.outcome)] += 1;
+        r.runout.add(end.runout_m);
+        r.max_velocity.add(end.max_velocity_ms);
+        r.max_jump.add(end.max_jump_height_m);
+        r.time.add(end.time_s);
+        r.tree_impacts += u64::from(end.tree_impacts);
+        r.stems_broken += u64::from(end.stems_broken);
+        r.rebounds += u64::from(end.rebounds);
+    }
+
+    /// Adds everything `other` (a tally of the same layout, with no rock in progress)
+    /// accumulated. Exact: any merge order gives bit-identical results.
+    pub fn merge(&mut self, other: Tally) {
+        self.cells.merge(other.cells);
+        for (a, b) in self.screens.iter_mut().zip(&other.screens) {
+            a.merge(b);
+        }
+        self.rock.merge(&other.rock);
+        self.rows.extend(other.rows);
+    }
+
+    /// Rocks ended so far.
+    pub fn rocks(&self) -> u64 {
+        self.rock.rocks()
+    }
+}

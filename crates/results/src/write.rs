@@ -1,0 +1,154 @@
+//! Writing results into an output folder, every file atomically.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use rockfall_raster::{Grid, RasterError, SampleType, atomic, write_grid};
+
+use crate::{Event, Results, TrajectoryRow};
+
+/// Header of `trajectories.csv` (a contract, see `product.md`).
+pub const TRAJECTORY_HEADER: &str =
+    "rock_id,t_s,x_m,y_m,z_m,vx_ms,vy_ms,vz_ms,wx_rads,wy_rads,wz_rads,e_trans_j,e_rot_j,event";
+
+/// What can go wrong writing results. Every variant names the file or folder.
+#[derive(Debug, thiserror::Error)]
+pub enum ResultsError {
+    /// The output folder could not be created.
+    #[error("{path}: cannot create the output folder: {source}")]
+    CreateDir {
+        /// The folder.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// A file could not be written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// A raster could not be written (the error names the file).
+    #[error(transparent)]
+    Raster(#[from] RasterError),
+}
+
+impl From<(PathBuf, std::io::Error)> for ResultsError {
+    fn from((path, source): (PathBuf, std::io::Error)) -> Self {
+        ResultsError::Io { path, source }
+    }
+}
+
+/// Creates `dir` (and its parents) when missing.
+pub(crate) fn create_dir(dir: &Path) -> Result<(), ResultsError> {
+    std::fs::create_dir_all(dir).map_err(|source| ResultsError::CreateDir {
+        path: dir.to_path_buf(),
+        source,
+    })
+}
+
+/// Writes `grid` as `<name>.tif` (and `<name>.asc` + `.prj` when `ascii`) into `dir`; pushes
+/// the paths written.
+pub(crate) fn write_raster(
+    dir: &Path,
+    name: &str,
+    grid: &Grid<f64>,
+    sample: SampleType,
+    ascii: bool,
+    written: &mut Vec<PathBuf>,
+) -> Result<(), ResultsError> {
+    let tif = dir.join(format!("{name}.tif"));
+    write_grid(&tif, grid, sample)?;
+    written.push(tif);
+    if ascii {
+        let asc = dir.join(format!("{name}.asc"));
+        write_grid(&asc, grid, sample)?;
+        written.push(asc.clone());
+        let prj = rockfall_raster::ascii_grid::prj_path(&asc);
+        if grid.crs().and_then(|c| c.wkt_for_prj()).is_some() {
+            written.push(prj);
+        }
+    }
+    Ok(())
+}
+
+/// Writes a JSON value, pretty-printed with a final newline, to `path` atomically.
+pub(crate) fn write_json(path: &Path, value: &serde_json::Value) -> Result<(), ResultsError> {
+    let mut text = serde_json::to_string_pretty(value).map_err(|e| ResultsError::Io {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(e),
+    })?;
+    text.push('\n');
+    atomic::write_bytes_atomic(path, text.as_bytes()).map_err(ResultsError::from)
+}
+
+fn event_name(e: Event) -> &'static str {
+    match e {
+        Event::Flight => "flight",
+        Event::Impact => "impact",
+        Event::Roll => "roll",
+        Event::Tree => "tree",
+        Event::Stop => "stop",
+    }
+}
+
+/// Writes `trajectories.csv`: the header, then one line per row; numbers in the shortest form
+/// that reads back to the same `f64`.
+pub(crate) fn write_trajectories(path: &Path, rows: &[TrajectoryRow]) -> Result<(), ResultsError> {
+    atomic::write_atomic(path, |w| {
+        let io = |e| ResultsError::Io {
+            path: path.to_path_buf(),
+            source: e,
+        };
+        writeln!(w, "{TRAJECTORY_HEADER}").map_err(io)?;
+        for r in rows {
+            writeln!(
+                w,
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                r.rock_id,
+                r.t_s,
+                r.x_m,
+                r.y_m,
+                r.z_m,
+                r.vx_ms,
+                r.vy_ms,
+                r.vz_ms,
+                r.wx_rads,
+                r.wy_rads,
+                r.wz_rads,
+                r.e_trans_j,
+                r.e_rot_j,
+                event_name(r.event)
+            )
+            .map_err(io)?;
+        }
+        Ok(())
+    })
+}
+
+impl Results {
+    /// Writes every raster as `<name>.tif` (GeoTIFF with the layout's CRS; counts as 32-bit
+    /// integers, others as 32-bit floats with nodata −9999) and, when `ascii`, also
+    /// `<name>.asc` (+ `.prj` when the CRS is known), plus `summary.json` and
+    /// `trajectories.csv` (header only when no trajectory was recorded), into `out_dir`
+    /// (created when missing). Every file is written atomically: a temporary name, then a
+    /// rename over any earlier file. Returns the paths written.
+    pub fn write(&self, out_dir: &Path, ascii: bool) -> Result<Vec<PathBuf>, ResultsError> {
+        create_dir(out_dir)?;
+        let mut written = Vec::new();
+        for (name, kind) in self.kinds() {
+            let grid = self.grid(kind);
+            let sample = Results::sample_type(kind, &grid);
+            write_raster(out_dir, &name, &grid, sample, ascii, &mut written)?;
+        }
+        let summary = out_dir.join("summary.json");
+        write_json(&summary, &self.summary_json())?;
+        written.push(summary);
+        let csv = out_dir.join("trajectories.csv");
+        write_trajectories(&csv, &self.rows)?;
+        written.push(csv);
+        Ok(written)
+    }
+}

@@ -1,0 +1,152 @@
+//! Shared helpers of the integration tests: a small layout and a seeded pseudo-random stream
+//! of rock events.
+#![allow(dead_code)]
+
+use std::sync::Arc;
+
+use rockfall_raster::{Crs, GridGeometry};
+use rockfall_results::{
+    CellVisit, Event, Layout, Outcome, RockEnd, RockStart, ScreenCrossing, Tally, TrajectoryRow,
+};
+use rockfall_scenario::Screen;
+
+/// 6 columns × 5 rows of 2 m, lower-left corner (1000, 5000), EPSG:2056, two screens.
+pub fn layout() -> Arc<Layout> {
+    Arc::new(Layout {
+        geometry: GridGeometry {
+            ncols: 6,
+            nrows: 5,
+            x_min_m: 1000.0,
+            y_min_m: 5000.0,
+            cell_size_m: 2.0,
+        },
+        crs: Some(Crs::from_epsg(2056)),
+        screens: vec![
+            Screen {
+                name: "upper".into(),
+                points_m: vec![[1000.0, 5006.0], [1012.0, 5006.0]],
+            },
+            Screen {
+                name: "lower".into(),
+                points_m: vec![[1000.0, 5002.0], [1006.0, 5003.0], [1012.0, 5002.0]],
+            },
+        ],
+        percentiles: vec![50.0, 99.5, 95.0],
+        trajectories: 7,
+    })
+}
+
+/// A 64-bit LCG (Knuth's MMIX constants).
+pub struct Lcg(pub u64);
+
+impl Lcg {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        self.0 >> 11
+    }
+
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        self.next_u64() as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in 0 .. n.
+    pub fn below(&mut self, n: u64) -> u64 {
+        self.next_u64() % n
+    }
+
+    /// Log-uniform over `decades` decades from `lo`.
+    pub fn log(&mut self, lo: f64, decades: f64) -> f64 {
+        lo * 10f64.powf(decades * self.unit())
+    }
+}
+
+/// Simulates rock `rock_id` into `tally`: a pseudo-random but reproducible stream of events
+/// depending only on the rock id (as the real engines' streams do).
+pub fn simulate_rock(tally: &mut Tally, rock_id: u64) {
+    let mut r = Lcg(rock_id.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ 0x1234_5678);
+    let ncells = tally.layout().geometry.len() as u64;
+    let source = r.below(4) as usize;
+    tally.begin_rock(RockStart {
+        rock_id,
+        source_cell: source,
+        x_m: 1001.0,
+        y_m: 5009.0,
+        z_m: 100.0,
+    });
+    let mut t = 0.0;
+    for step in 0..(1 + r.below(12)) {
+        let cell = r.below(ncells) as usize;
+        tally.cell_visit(
+            cell,
+            CellVisit {
+                energy_j: if r.below(20) == 0 {
+                    0.0
+                } else {
+                    r.log(0.1, 8.0)
+                },
+                velocity_ms: r.log(0.01, 3.5),
+                passing_height_m: r.log(1e-4, 5.0),
+            },
+        );
+        if r.below(5) == 0 {
+            tally.tree_impact(cell, r.unit() * 8.0, r.below(3) == 0);
+        }
+        if r.below(4) == 0 {
+            let screen = r.below(2) as usize;
+            tally.screen_crossing(
+                screen,
+                ScreenCrossing {
+                    velocity_ms: r.log(0.1, 2.0),
+                    energy_j: r.log(10.0, 6.0),
+                    jump_height_m: r.unit() * 3.0,
+                },
+            );
+        }
+        t += r.unit() * 0.37;
+        if tally.records() {
+            tally.record(TrajectoryRow {
+                rock_id,
+                t_s: t,
+                x_m: 1000.0 + r.unit() * 12.0,
+                y_m: 5000.0 + r.unit() * 10.0,
+                z_m: r.unit() * 100.0,
+                vx_ms: r.unit(),
+                vy_ms: -r.unit(),
+                vz_ms: r.unit() - 0.5,
+                wx_rads: 0.1,
+                wy_rads: 0.2,
+                wz_rads: 1.0 / 3.0,
+                e_trans_j: r.log(1.0, 5.0),
+                e_rot_j: r.log(1.0, 3.0),
+                event: [Event::Flight, Event::Impact, Event::Roll, Event::Tree][step as usize % 4],
+            });
+        }
+    }
+    let outcome = match r.below(6) {
+        0 | 1 => Outcome::Stopped {
+            cell: r.below(ncells) as usize,
+        },
+        2 => Outcome::NetStopped {
+            cell: r.below(ncells) as usize,
+        },
+        3 => Outcome::LeftDem,
+        4 => Outcome::TimeLimit,
+        _ => Outcome::Failed,
+    };
+    tally.end_rock(RockEnd {
+        outcome,
+        x_m: 1005.0,
+        y_m: 5001.0,
+        runout_m: r.log(0.5, 3.0),
+        max_velocity_ms: r.log(1.0, 1.5),
+        max_jump_height_m: r.log(0.01, 2.0),
+        tree_impacts: r.below(4) as u32,
+        stems_broken: r.below(2) as u32,
+        rebounds: r.below(9) as u32,
+        time_s: t,
+    });
+}
