@@ -24,17 +24,21 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Build the embedded demo site (vaujany-site2), run it with and without its forest, and
-    /// write every output and the report.
+    /// write every output: the forested run in OUT, the bare run in OUT/without_forest, the
+    /// forest's protective effect (Forest_effect_*.tif, forest_effect.json) in OUT.
     Demo {
         /// Output folder (created if needed).
         #[arg(long, default_value = "rockfall-demo")]
         out: PathBuf,
     },
     /// Simulate rocks on an input: a scenario file (*.toml) or a Rockyfor3D input folder.
+    /// Writes the hazard rasters (GeoTIFF: Nr_passages, Reach_probability, Nr_deposited,
+    /// Nr_sourcecells, E_mean and E_<percentile> in kJ, Ph_mean and Ph_95 in m, V_max in m/s,
+    /// Nr_tree_impacts, Tree_impact_height_max in m), summary.json and trajectories.csv.
     Run {
         /// Scenario file or Rockyfor3D input folder.
         input: PathBuf,
-        /// Output folder (created if needed).
+        /// Output folder (created if needed; files of an earlier run are replaced).
         #[arg(long, default_value = "rockfall-out")]
         out: PathBuf,
         /// Engine: `lumped` (seed 000) or `rigid` (seed 001); default: the scenario's.

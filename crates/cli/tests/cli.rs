@@ -198,7 +198,7 @@ fn site_list_names_the_three_sites() {
 }
 
 #[test]
-fn run_is_not_yet_available_but_validates_its_input() {
+fn run_with_the_rigid_engine_is_not_yet_available_but_validates_its_input() {
     let (_tmp, dir) = site("forest-slope-40");
     let scenario = dir.join("scenario.toml");
     let out = tempfile::tempdir().unwrap();

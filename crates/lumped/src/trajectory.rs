@@ -315,7 +315,15 @@ impl Rock<'_, '_, '_> {
             (incoming.unwrap_or(along), reb.vt_ms)
         };
         let k = self.body.rolling_factor();
-        let hopped = hop(vt, reb.vn_ms, reb.moh_m, reb.normal.z, k);
+        // small rebound: on ground too gentle to keep a rolling rock going it rolls (and
+        // slows down); on steeper ground it bounces on over the obstacles
+        let mu = rolling_resistance(ground.cell(cell).moh_mean_m, self.body.radius_m);
+        let hopped = if holds_rolling_rock(n_true, mu) {
+            let vn = reb.vn_ms;
+            (vn * vn >= 2.0 * G_MS2 * reb.normal.z * reb.moh_m).then_some((vt, vn))
+        } else {
+            hop(vt, reb.vn_ms, reb.moh_m, reb.normal.z, k)
+        };
         let (vt, vn) = hopped.unwrap_or((vt, reb.vn_ms));
         let (v, w) = compose(reb.normal, dir, vt, vn, self.body.radius_m);
         self.rebounds += 1;
@@ -343,17 +351,18 @@ impl Rock<'_, '_, '_> {
             return Some(Outcome::LeftDem);
         };
         let moh = ground.cell(cell).moh_mean_m;
-        // fast enough to bounce over the cell's obstacles: a rebound where it is
+        let mu = rolling_resistance(moh, self.body.radius_m);
+        // on ground too steep to hold it, a rock fast enough to bounce over the cell's
+        // obstacles does so: a rebound where it is
         if self.moved && moh > 0.0 {
-            let n_z = ground
+            let n = ground
                 .surface(self.p.x, self.p.y)
-                .map_or(1.0, |s| s.normal().z);
-            if self.v.norm2() >= 2.0 * G_MS2 * n_z * moh {
+                .map_or(V3::UP, |s| s.normal());
+            if !holds_rolling_rock(n, mu) && self.v.norm2() >= 2.0 * G_MS2 * n.z * moh {
                 self.rolling = false;
                 return self.rebound();
             }
         }
-        let mu = rolling_resistance(moh, self.body.radius_m);
         let stop = self.world.settings.stop_velocity_ms;
         let mut input = RollInput {
             mu_r: mu,
@@ -671,6 +680,14 @@ impl Rock<'_, '_, '_> {
             time_s: self.t,
         });
     }
+}
+
+/// Whether rolling resistance `mu` holds a rock on ground of normal `n`: `tan θ ≤ μ_r`. There
+/// a rock rolls and slows down; on steeper ground a rolling rock speeds up until the
+/// obstacles throw it into short bounces (see [`crate::rebound::hop`]).
+#[inline]
+fn holds_rolling_rock(n: V3, mu: f64) -> bool {
+    n.horizontal_norm() <= mu * n.z
 }
 
 /// Horizontal unit direction of `v`, `None` when it is (nearly) vertical.

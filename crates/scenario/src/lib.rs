@@ -141,6 +141,28 @@ pub struct Scenario {
 }
 
 impl Scenario {
+    /// A lumped-engine scenario on `terrain` releasing `rock` as `release`, with every other
+    /// setting at its default (seed 1, no forest, nets or screens).
+    pub fn new(name: &str, terrain: Terrain, rock: RockSpec, release: Release) -> Scenario {
+        Scenario {
+            name: name.into(),
+            engine: Engine::Lumped,
+            seed: 1,
+            terrain,
+            forest: None,
+            nets: None,
+            rock,
+            release,
+            screens: Vec::new(),
+            lumped: LumpedSettings::default(),
+            contact: ContactSettings::default(),
+            simulation: SimulationSettings::default(),
+            output: OutputSettings::default(),
+            sources: BTreeMap::new(),
+            notes: Vec::new(),
+        }
+    }
+
     /// The explicit stems: given ones, or stands expanded with the scenario's seed
     /// (deterministic; see `rockfall_forest::expand_stands`). An empty forest when none.
     pub fn build_forest(&self) -> Result<Forest, ScenarioError> {
