@@ -203,6 +203,9 @@ pub fn build(site: Site) -> Result<Scenario, SiteError> {
         contact: ContactSettings::default(),
         simulation: SimulationSettings {
             rocks_per_cell: 10_000,
+            // a safeguard only: a rock hopping slowly down the whole 310 m slope needs more
+            // than the 60 s default, and a rock still moving is not a stopped rock
+            max_time_s: 600.0,
             ..SimulationSettings::default()
         },
         output: OutputSettings::default(),
