@@ -24,6 +24,11 @@ impl From<rockfall_io::InputError> for Failure {
 
 fn main() -> ExitCode {
     std::panic::set_hook(Box::new(|info| {
+        // a reader that closed our stdout early (`rockfall … | head`) is not a failure
+        let text = info.payload_as_str().unwrap_or_default();
+        if text.contains("failed printing to stdout") && text.contains("Broken pipe") {
+            std::process::exit(0);
+        }
         eprintln!("rockfall: internal error (a bug; please report it): {info}");
         std::process::exit(1);
     }));

@@ -316,15 +316,14 @@ fn cell_params(
 }
 
 /// The smallest root of `q0 + q1 t + q2 t²` in `[t_a, t_b]` at which the polynomial is
-/// decreasing (going from positive to negative); also `t_a` itself when the polynomial is
-/// already non-positive and decreasing there.
+/// decreasing (going from positive to negative). A gap that is already ≤ 0 at `t_a` lands
+/// there unless it rises above 0 later in the interval (a take-off: then the descending root
+/// after it is the landing) — so a rock starting on the surface and tangent to it, curving
+/// down into it, lands at once instead of sinking.
 #[inline]
 fn first_descending_root(q0: f64, q1: f64, q2: f64, t_a: f64, t_b: f64) -> Option<f64> {
     let at = |t: f64| q0 + t * (q1 + t * q2);
     let slope = |t: f64| q1 + 2.0 * q2 * t;
-    if at(t_a) <= 0.0 && slope(t_a) < 0.0 {
-        return Some(t_a);
-    }
     let mut roots = [f64::NAN; 2];
     if q2.abs() < 1e-300 {
         if q1 != 0.0 {
@@ -332,21 +331,24 @@ fn first_descending_root(q0: f64, q1: f64, q2: f64, t_a: f64, t_b: f64) -> Optio
         }
     } else {
         let disc = q1 * q1 - 4.0 * q2 * q0;
-        if disc < 0.0 {
-            return None;
+        if disc >= 0.0 {
+            // numerically stable pair of roots
+            let s = -0.5 * (q1 + q1.signum() * disc.sqrt());
+            let (r1, r2) = if s != 0.0 {
+                (s / q2, q0 / s)
+            } else {
+                (0.0, 0.0)
+            };
+            roots = if r1 <= r2 { [r1, r2] } else { [r2, r1] };
         }
-        // numerically stable pair of roots
-        let s = -0.5 * (q1 + q1.signum() * disc.sqrt());
-        let (r1, r2) = if s != 0.0 {
-            (s / q2, q0 / s)
-        } else {
-            (0.0, 0.0)
-        };
-        roots = if r1 <= r2 { [r1, r2] } else { [r2, r1] };
     }
-    roots
-        .into_iter()
-        .find(|&t| t >= t_a && t <= t_b && slope(t) < 0.0)
+    let inside = |t: f64| t >= t_a && t <= t_b;
+    let rises =
+        roots.iter().any(|&t| inside(t) && slope(t) > 0.0) || (slope(t_a) >= 0.0 && q2 > 0.0);
+    if at(t_a) <= 0.0 && !rises {
+        return Some(t_a);
+    }
+    roots.into_iter().find(|&t| inside(t) && slope(t) < 0.0)
 }
 
 #[cfg(test)]
@@ -364,5 +366,14 @@ mod tests {
         assert_eq!(first_descending_root(1.0, 0.0, -1.0, 0.0, 0.5), None);
         // already below and falling
         assert_eq!(first_descending_root(-1e-9, -1.0, 0.0, 0.3, 1.0), Some(0.3));
+        // on the surface, tangent, curving down into it: lands at once
+        assert_eq!(first_descending_root(0.0, 0.0, -1.0, 0.0, 1.0), Some(0.0));
+        // slightly below, rising too little to get out: lands at once
+        assert_eq!(
+            first_descending_root(-1e-6, 1e-9, -4.9, 0.0, 1.0),
+            Some(0.0)
+        );
+        // on the surface, tangent, the ground curving away faster: in flight
+        assert_eq!(first_descending_root(0.0, 0.0, 1.0, 0.0, 1.0), None);
     }
 }

@@ -130,7 +130,14 @@ pub fn roll_step(ground: &Ground, body: &RockBody, p: V3, v: V3, input: &RollInp
     let nz = 0.5 * (n0.z + n1.z);
     let v2 = speed * speed + 2.0 * k * (-G_MS2 * dz - mu_r * G_MS2 * nz * path);
     if v2 <= 0.0 {
-        return RollStep::Stopped { p: p1, dt_s: dt };
+        // the energy runs out within the step: stop where it does (linear in the path)
+        let f = (speed * speed / (speed * speed - v2)).clamp(0.0, 1.0);
+        let (xs, ys) = (p.x + f * step.x, p.y + f * step.y);
+        let zs = ground.height_m(xs, ys).map_or(p1.z, |z| z + r);
+        return RollStep::Stopped {
+            p: V3::new(xs, ys, zs),
+            dt_s: dt * f.max(1e-9),
+        };
     }
     let speed1 = v2.sqrt();
     if moved && speed1 < stop_ms {

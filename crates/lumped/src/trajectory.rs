@@ -401,7 +401,12 @@ impl Rock<'_, '_, '_> {
         self.v = seg.vel(tau);
         self.t += tau;
         self.moved = true;
-        let n = ground.surface(self.p.x, self.p.y).map(|s| s.normal());
+        let surface = ground.surface(self.p.x, self.p.y);
+        if let Some(s) = surface {
+            // a step cut short lies on the chord: put the rock back on the ground
+            self.p.z = s.z_m + self.body.radius_m;
+        }
+        let n = surface.map(|s| s.normal());
         self.w = n.map_or(V3::ZERO, |n| rolling_spin(self.v, n, self.body.radius_m));
         match cut {
             Cut::Tree(stem) => return self.tree_impact(stem),

@@ -1,0 +1,299 @@
+//! `rockfall run` with the lumped engine end to end on `vaujany-site2`: every output of
+//! `product.md` (summary keys, the trajectory header, the GeoTIFFs on the DEM's grid), `--ascii`
+//! grids, the Rockyfor3D folder form of the same site, and a fixed `--seed` reproducing its
+//! results exactly.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use rockfall_raster::{Grid, read_grid};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use tempfile::TempDir;
+
+/// What a run of the binary gave.
+struct Run {
+    code: Option<i32>,
+    stdout: String,
+    stderr: String,
+}
+
+impl std::fmt::Display for Run {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "exit {:?}\n--- stdout\n{}\n--- stderr\n{}",
+            self.code, self.stdout, self.stderr
+        )
+    }
+}
+
+fn rockfall(args: &[&str]) -> Run {
+    let out = Command::new(env!("CARGO_BIN_EXE_rockfall"))
+        .args(args)
+        .output()
+        .unwrap();
+    Run {
+        code: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// Asserts success; returns stdout.
+fn ok(run: Run) -> String {
+    assert_eq!(run.code, Some(0), "{run}");
+    assert!(!run.stderr.contains("panicked"), "{run}");
+    run.stdout
+}
+
+/// `rockfall site vaujany-site2` into a fresh folder; returns (tempdir, site dir).
+fn site() -> (TempDir, PathBuf) {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("site");
+    ok(rockfall(&["site", "vaujany-site2", "--out", s(&dir)]));
+    (tmp, dir)
+}
+
+/// Runs `rockfall run INPUT --out OUT` with `extra` flags; returns OUT's summary.json.
+fn run(input: &Path, out: &Path, extra: &[&str]) -> Value {
+    let mut args = vec!["run", s(input), "--out", s(out)];
+    args.extend_from_slice(extra);
+    let stdout = ok(rockfall(&args));
+    assert!(stdout.contains("wrote"), "{stdout}");
+    let text = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+const RASTERS: [&str; 11] = [
+    "Nr_passages",
+    "Reach_probability",
+    "Nr_deposited",
+    "Nr_sourcecells",
+    "E_mean",
+    "E_95",
+    "Ph_mean",
+    "Ph_95",
+    "V_max",
+    "Nr_tree_impacts",
+    "Tree_impact_height_max",
+];
+
+const HEADER: &str =
+    "rock_id,t_s,x_m,y_m,z_m,vx_ms,vy_ms,vz_ms,wx_rads,wy_rads,wz_rads,e_trans_j,e_rot_j,event";
+
+fn number(v: &Value, path: &str) -> f64 {
+    v.as_f64()
+        .unwrap_or_else(|| panic!("summary.json: `{path}` is not a number: {v}"))
+}
+
+/// Every `summary.json` key `product.md` asks for, with a value of the right kind.
+fn check_summary(sum: &Value, rocks: u64, threads: u64, seed: u64, screens: usize) {
+    assert_eq!(sum["engine"], "lumped", "{sum}");
+    assert_eq!(sum["seed"], seed, "{sum}");
+    assert_eq!(sum["rocks"], rocks, "{sum}");
+    assert_eq!(sum["threads"], threads, "{sum}");
+    assert!(number(&sum["wall_time_s"], "wall_time_s") >= 0.0);
+    assert!(number(&sum["trajectories_per_s"], "trajectories_per_s") > 0.0);
+    for key in ["stopped_fraction", "left_dem_fraction"] {
+        let x = number(&sum[key], key);
+        assert!((0.0..=1.0).contains(&x), "{key} = {x}");
+    }
+    let runout = &sum["runout_m"];
+    let (p50, p95, max) = (
+        number(&runout["p50"], "runout_m.p50"),
+        number(&runout["p95"], "runout_m.p95"),
+        number(&runout["max"], "runout_m.max"),
+    );
+    assert!(0.0 < p50 && p50 <= p95 && p95 <= max, "{runout}");
+    for key in ["max_velocity_ms", "max_jump_height_m"] {
+        let mean = number(&sum[key]["mean"], key);
+        let max = number(&sum[key]["max"], key);
+        assert!(0.0 < mean && mean <= max, "{key}: {}", sum[key]);
+    }
+    // vaujany-site2 is forested below its upper 40 m
+    assert!(number(&sum["tree_impacts_per_rock"], "tree_impacts_per_rock") > 0.0);
+    let list = sum["screens"].as_array().unwrap();
+    assert_eq!(list.len(), screens, "{sum}");
+    for sc in list {
+        assert!(sc["name"].is_string(), "{sc}");
+        let passed = number(&sc["passed_fraction"], "passed_fraction");
+        assert!((0.0..=1.0).contains(&passed), "{sc}");
+        for key in ["velocity_ms", "energy_kj", "jump_height_m"] {
+            for stat in ["mean", "p95", "max"] {
+                let v = &sc[key][stat];
+                // null only when no rock crossed the screen
+                assert!(
+                    v.is_number() || (v.is_null() && passed == 0.0),
+                    "{key}.{stat}: {sc}"
+                );
+            }
+        }
+    }
+    // the first screen (185 m down the slope) is crossed
+    if let Some(first) = list.first() {
+        assert!(number(&first["passed_fraction"], "passed_fraction") > 0.0);
+    }
+}
+
+/// The DEM of the site folder.
+fn dem(site: &Path) -> Grid<f64> {
+    read_grid(&site.join("dem.asc")).unwrap()
+}
+
+/// Each product raster in `out` with extension `ext`, read back and on the DEM's grid.
+fn check_rasters(out: &Path, ext: &str, dem: &Grid<f64>) -> Vec<Grid<f64>> {
+    RASTERS
+        .iter()
+        .map(|name| {
+            let path = out.join(format!("{name}.{ext}"));
+            let grid = read_grid(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            assert_eq!(grid.geometry(), dem.geometry(), "{}", path.display());
+            assert_eq!(grid.crs(), dem.crs(), "{}", path.display());
+            grid
+        })
+        .collect()
+}
+
+/// The trajectory file: exact header, 14 columns, known events, rocks 0..n.
+fn check_trajectories(out: &Path) -> String {
+    let text = std::fs::read_to_string(out.join("trajectories.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some(HEADER));
+    let mut rows = 0;
+    for line in lines {
+        let cols: Vec<&str> = line.split(',').collect();
+        assert_eq!(cols.len(), 14, "{line}");
+        assert!(
+            ["flight", "impact", "roll", "tree", "stop"].contains(&cols[13]),
+            "{line}"
+        );
+        for c in &cols[..13] {
+            assert!(c.parse::<f64>().is_ok_and(f64::is_finite), "{line}");
+        }
+        rows += 1;
+    }
+    assert!(rows > 10, "{rows} trajectory rows");
+    text
+}
+
+#[test]
+fn run_writes_every_product_output() {
+    let (tmp, dir) = site();
+    let out = tmp.path().join("out");
+    let sum = run(
+        &dir.join("scenario.toml"),
+        &out,
+        &["--rocks-per-cell", "300", "--threads", "2"],
+    );
+    check_summary(&sum, 300, 2, 1, 3);
+    check_trajectories(&out);
+    let dem = dem(&dir);
+    let grids = check_rasters(&out, "tif", &dem);
+    // 300 rocks from the one source cell: it is passed by all of them
+    let sources = &grids[3];
+    let passages = &grids[0];
+    let reach = &grids[1];
+    let (lo, hi) = reach.min_max().unwrap();
+    assert!(lo >= 0.0 && hi == 100.0, "reach {lo}..{hi} %");
+    assert_eq!(sources.min_max().unwrap().1, 1.0);
+    let deposited: f64 = grids[2].iter_valid().map(|(_, _, v)| v).sum();
+    let stopped = sum["stopped_fraction"].as_f64().unwrap();
+    assert_eq!(deposited, (stopped * 300.0).round(), "Nr_deposited total");
+    assert!(passages.min_max().unwrap().1 >= 300.0);
+    // no .asc without --ascii
+    assert!(!out.join("E_mean.asc").exists());
+}
+
+#[test]
+fn ascii_flag_also_writes_ascii_grids() {
+    let (tmp, dir) = site();
+    let out = tmp.path().join("out");
+    run(
+        &dir.join("scenario.toml"),
+        &out,
+        &["--rocks-per-cell", "100", "--threads", "2", "--ascii"],
+    );
+    let dem = dem(&dir);
+    let tifs = check_rasters(&out, "tif", &dem);
+    let ascs = check_rasters(&out, "asc", &dem);
+    for ((name, tif), asc) in RASTERS.iter().zip(&tifs).zip(&ascs) {
+        assert_eq!(tif.mask(), asc.mask(), "{name}: nodata masks differ");
+        for (a, b) in tif.values().iter().zip(asc.values()) {
+            assert!(
+                (a - b).abs() <= 1e-5 * (1.0 + b.abs()),
+                "{name}: {a} (tif) vs {b} (asc)"
+            );
+        }
+    }
+}
+
+#[test]
+fn rockyfor3d_folder_of_the_site_runs() {
+    let (tmp, dir) = site();
+    // the site folder is also a Rockyfor3D input folder (rockdensity.asc, d1–d3, treefile.txt)
+    assert!(dir.join("rockdensity.asc").exists() && dir.join("treefile.txt").exists());
+    let out = tmp.path().join("out");
+    let sum = run(&dir, &out, &["--threads", "2"]);
+    // a Rockyfor3D folder releases 100 rocks per source cell by default, and has no screens
+    check_summary(&sum, 100, 2, 1, 0);
+    check_trajectories(&out);
+    check_rasters(&out, "tif", &dem(&dir));
+}
+
+/// summary.json without the keys that depend on timing and threads.
+fn without_timing(mut sum: Value) -> Value {
+    let m = sum.as_object_mut().unwrap();
+    for key in ["threads", "wall_time_s", "trajectories_per_s"] {
+        assert!(m.remove(key).is_some(), "no `{key}`");
+    }
+    sum
+}
+
+#[test]
+fn fixed_seed_reproduces_the_run() {
+    let (tmp, dir) = site();
+    let input = dir.join("scenario.toml");
+    let outs: Vec<PathBuf> = ["a", "b", "c"].iter().map(|n| tmp.path().join(n)).collect();
+    let flags = |threads| {
+        [
+            "--rocks-per-cell",
+            "300",
+            "--seed",
+            "5",
+            "--threads",
+            threads,
+        ]
+    };
+    let a = run(&input, &outs[0], &flags("2"));
+    let b = run(&input, &outs[1], &flags("2"));
+    let c = run(&input, &outs[2], &flags("1"));
+    assert_eq!(a["seed"], 5);
+    let a = without_timing(a);
+    assert_eq!(a, without_timing(b));
+    assert_eq!(a, without_timing(c), "1 thread vs 2");
+    let traj = check_trajectories(&outs[0]);
+    for out in &outs[1..] {
+        assert_eq!(check_trajectories(out), traj, "{}", out.display());
+        for name in RASTERS {
+            let file = format!("{name}.tif");
+            let (x, y) = (
+                std::fs::read(outs[0].join(&file)).unwrap(),
+                std::fs::read(out.join(&file)).unwrap(),
+            );
+            assert!(
+                x == y,
+                "{file} differs between {} and {}",
+                outs[0].display(),
+                out.display()
+            );
+        }
+    }
+    // and seed 5 is not seed 1
+    let d = run(&input, &tmp.path().join("d"), &["--rocks-per-cell", "300"]);
+    assert_ne!(a["runout_m"], d["runout_m"]);
+}
