@@ -42,7 +42,7 @@ pub fn simulate(
         let at = source.map_or(String::new(), |p| format!("{}: ", p.display()));
         Failure::BadInput(anyhow!("{at}{e}"))
     })?;
-    let layout = Arc::new(layout(scenario));
+    let layout = Arc::new(Layout::of(scenario));
     let rocks = model.rocks();
     let bar = progress_bar(rocks, label);
     let tick = |n: u64| bar.inc(n);
@@ -65,18 +65,6 @@ pub fn simulate(
         extra: parameters(scenario, &model),
     };
     Ok(Results::new(&layout, tally, info))
-}
-
-/// The tallies' layout for `scenario`.
-fn layout(scenario: &Scenario) -> Layout {
-    let dem = &scenario.terrain.dem;
-    Layout {
-        geometry: *dem.geometry(),
-        crs: dem.crs().cloned(),
-        screens: scenario.screens.clone(),
-        percentiles: scenario.output.percentiles.clone(),
-        trajectories: scenario.output.trajectories,
-    }
 }
 
 /// Engine parameters recorded in `summary.json`.

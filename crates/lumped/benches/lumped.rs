@@ -16,11 +16,8 @@ fn site2(c: &mut Criterion) {
     scenario.simulation.rocks_per_cell = ROCKS;
     let forest = scenario.build_forest().expect("site forest");
     let layout = Arc::new(Layout {
-        geometry: *scenario.terrain.dem.geometry(),
-        crs: None,
-        screens: scenario.screens.clone(),
-        percentiles: scenario.output.percentiles.clone(),
         trajectories: 0,
+        ..Layout::of(&scenario)
     });
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut group = c.benchmark_group("vaujany-site2");

@@ -17,8 +17,8 @@
 //! homogeneous solids about that axis. The same R is the contact radius (the rock centre moves
 //! R above the ground), the radius of eq. 3 and the rock's reach towards a stem (R + DBH/2).
 
+use crate::V3;
 use rockfall_scenario::rock::BlockShape;
-use std::f64::consts::PI;
 
 /// Mass, radius and rotational inertia of one rock.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,11 +62,6 @@ impl RockBody {
         })
     }
 
-    /// Volume, m³.
-    pub fn volume_m3(&self, density_kg_m3: f64) -> f64 {
-        self.mass_kg / density_kg_m3
-    }
-
     /// `m R² / (m R² + I)`: the share of a rolling rock's kinetic energy that is translational
     /// (5/7 for a sphere), and the factor on gravity's pull for rolling without slip.
     #[inline]
@@ -75,22 +70,17 @@ impl RockBody {
         mr2 / (mr2 + self.inertia_kgm2)
     }
 
-    /// Translational kinetic energy `½ m v²` at speed `speed_ms`, J.
+    /// Translational kinetic energy `½ m |v|²` at velocity `v` (m/s), J.
     #[inline]
-    pub fn translational_energy_j(&self, speed_ms: f64) -> f64 {
-        0.5 * self.mass_kg * speed_ms * speed_ms
+    pub fn translational_energy_j(&self, v: V3) -> f64 {
+        0.5 * self.mass_kg * v.norm2()
     }
 
-    /// Rotational kinetic energy `½ I ω²` at angular speed `omega_rads`, J.
+    /// Rotational kinetic energy `½ I |ω|²` at angular velocity `w` (rad/s), J.
     #[inline]
-    pub fn rotational_energy_j(&self, omega_rads: f64) -> f64 {
-        0.5 * self.inertia_kgm2 * omega_rads * omega_rads
+    pub fn rotational_energy_j(&self, w: V3) -> f64 {
+        0.5 * self.inertia_kgm2 * w.norm2()
     }
-}
-
-/// Volume of a sphere of diameter `d_m`, m³ (used by tests and callers that need it).
-pub fn sphere_volume_m3(d_m: f64) -> f64 {
-    PI / 6.0 * d_m * d_m * d_m
 }
 
 #[cfg(test)]
@@ -101,7 +91,7 @@ mod tests {
     fn sphere_of_seed_000() {
         // seed 000 §2.1: 0.95 m spheres of 2800 kg/m³
         let b = RockBody::new(BlockShape::Spherical, [0.95; 3], 2800.0).unwrap();
-        assert!((b.mass_kg - 2800.0 * sphere_volume_m3(0.95)).abs() < 1e-9);
+        assert!((b.mass_kg - 2800.0 * std::f64::consts::PI / 6.0 * 0.95f64.powi(3)).abs() < 1e-9);
         assert!((b.radius_m - 0.475).abs() < 1e-12);
         assert!((b.inertia_kgm2 - 0.4 * b.mass_kg * 0.475 * 0.475).abs() < 1e-9);
         assert!((b.rolling_factor() - 5.0 / 7.0).abs() < 1e-12);

@@ -145,12 +145,6 @@ impl<'f> LumpedModel<'f> {
         })
     }
 
-    /// Replaces the master seed.
-    pub fn with_seed(mut self, seed: u64) -> Self {
-        self.seed = seed;
-        self
-    }
-
     /// The releases.
     pub fn sources(&self) -> &[Source] {
         &self.sources

@@ -127,6 +127,13 @@ pub fn rebound(
     }
 }
 
+/// Squared speed normal to the slope that lifts a rock's centre by `moh_m` against gravity's
+/// normal component `g n_z`: `2 g n_z MOH`, m²/s².
+#[inline]
+pub fn clearing_speed2(moh_m: f64, n_z: f64) -> f64 {
+    2.0 * crate::G_MS2 * n_z * moh_m
+}
+
 /// Rough rolling as a sequence of short bounces (model notes, engine 1: "treated as a
 /// sequence of short bounces"): a rock that met an obstacle of height `moh_m` leaves the
 /// ground at least fast enough to clear it, `v_n ≥ sqrt(2 g n_z MOH)` (g n_z: gravity normal
@@ -137,7 +144,7 @@ pub fn rebound(
 /// Returns the new (v_t, v_n). `vt_ms` ≥ 0, `k` = [`RockBody::rolling_factor`].
 #[inline]
 pub fn hop(vt_ms: f64, vn_ms: f64, moh_m: f64, n_z: f64, k: f64) -> Option<(f64, f64)> {
-    let vn_min2 = 2.0 * crate::G_MS2 * n_z * moh_m;
+    let vn_min2 = clearing_speed2(moh_m, n_z);
     if vn_ms * vn_ms >= vn_min2 {
         return Some((vt_ms, vn_ms));
     }
@@ -186,7 +193,7 @@ mod tests {
     }
 
     fn energy(b: &RockBody, v: V3, w: V3) -> f64 {
-        0.5 * b.mass_kg * v.norm2() + 0.5 * b.inertia_kgm2 * w.norm2()
+        b.translational_energy_j(v) + b.rotational_energy_j(w)
     }
 
     #[test]

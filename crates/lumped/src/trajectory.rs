@@ -7,7 +7,7 @@ use crate::body::RockBody;
 use crate::direction::draw_direction;
 use crate::forestry::Trees;
 use crate::ground::{FlightEnd, Ground};
-use crate::rebound::{compose, hop, rebound};
+use crate::rebound::{clearing_speed2, compose, hop, rebound};
 use crate::roll::{
     ROLL_DT_MAX_S, ROLL_DT_MIN_S, RollInput, RollStep, roll_step, rolling_resistance,
 };
@@ -236,7 +236,7 @@ impl Rock<'_, '_, '_> {
     }
 
     fn energy_j(&self, v: V3) -> f64 {
-        0.5 * self.body.mass_kg * v.norm2() + 0.5 * self.body.inertia_kgm2 * self.w.norm2()
+        self.body.translational_energy_j(v) + self.body.rotational_energy_j(self.w)
     }
 
     fn current_cell(&self) -> Option<usize> {
@@ -320,7 +320,7 @@ impl Rock<'_, '_, '_> {
         let mu = rolling_resistance(ground.cell(cell).moh_mean_m, self.body.radius_m);
         let hopped = if holds_rolling_rock(n_true, mu) {
             let vn = reb.vn_ms;
-            (vn * vn >= 2.0 * G_MS2 * reb.normal.z * reb.moh_m).then_some((vt, vn))
+            (vn * vn >= clearing_speed2(reb.moh_m, reb.normal.z)).then_some((vt, vn))
         } else {
             hop(vt, reb.vn_ms, reb.moh_m, reb.normal.z, k)
         };
@@ -358,7 +358,7 @@ impl Rock<'_, '_, '_> {
             let n = ground
                 .surface(self.p.x, self.p.y)
                 .map_or(V3::UP, |s| s.normal());
-            if !holds_rolling_rock(n, mu) && self.v.norm2() >= 2.0 * G_MS2 * n.z * moh {
+            if !holds_rolling_rock(n, mu) && self.v.norm2() >= clearing_speed2(moh, n.z) {
                 self.rolling = false;
                 return self.rebound();
             }
@@ -655,8 +655,8 @@ impl Rock<'_, '_, '_> {
             wx_rads: self.w.x,
             wy_rads: self.w.y,
             wz_rads: self.w.z,
-            e_trans_j: 0.5 * self.body.mass_kg * v.norm2(),
-            e_rot_j: 0.5 * self.body.inertia_kgm2 * self.w.norm2(),
+            e_trans_j: self.body.translational_energy_j(v),
+            e_rot_j: self.body.rotational_energy_j(self.w),
             event,
         }
     }

@@ -100,11 +100,10 @@ fn scenario() -> (Scenario, Forest) {
 fn run(s: &Scenario, forest: &Forest, threads: usize) -> Results {
     let model = LumpedModel::new(s, Some(forest)).unwrap();
     let layout = Arc::new(Layout {
-        geometry: *s.terrain.dem.geometry(),
         crs: None,
-        screens: s.screens.clone(),
         percentiles: vec![50.0, 95.0, 99.0],
         trajectories: 30,
+        ..Layout::of(s)
     });
     let opts = RunOptions {
         threads,

@@ -9,26 +9,20 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
+mod common;
+
 use proptest::prelude::*;
 use rand::RngExt;
 use rockfall_lumped::ground::{FlightEnd, Ground};
 use rockfall_lumped::{G_MS2, V3};
-use rockfall_raster::{Grid, GridGeometry};
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
 
 /// Terrain whose DEM holds `f(x, y)` at every cell centre (smooth ground, soil type 3).
 fn terrain(ncols: usize, nrows: usize, cell_m: f64, f: impl Fn(f64, f64) -> f64) -> Terrain {
-    let geometry = GridGeometry {
-        ncols,
-        nrows,
-        x_min_m: 0.0,
-        y_min_m: 0.0,
-        cell_size_m: cell_m,
-    };
-    let grid = Grid::from_fn(geometry, |row, col| {
-        let (x, y) = geometry.cell_center(row, col);
-        Some(f(x, y))
-    });
+    let grid = common::dem(
+        common::geometry(ncols, nrows, cell_m, (0.0, 0.0)),
+        |x, y, _, _| f(x, y),
+    );
     let surface = SurfaceMap::uniform(SoilType::new(3).unwrap(), 0.0, 0.0, 0.0);
     Terrain::new(Dem::new(grid).unwrap(), surface).unwrap()
 }
@@ -277,17 +271,10 @@ fn noise_terrain(seed: u64, n: usize, cell_m: f64, tilt: (f64, f64), amp_m: f64)
     let noise: Vec<f64> = (0..n * n)
         .map(|_| amp_m * (2.0 * rng.random::<f64>() - 1.0))
         .collect();
-    let geometry = GridGeometry {
-        ncols: n,
-        nrows: n,
-        x_min_m: 0.0,
-        y_min_m: 0.0,
-        cell_size_m: cell_m,
-    };
-    let grid = Grid::from_fn(geometry, |row, col| {
-        let (x, y) = geometry.cell_center(row, col);
-        Some(200.0 + tilt.0 * x + tilt.1 * y + noise[row * n + col])
-    });
+    let grid = common::dem(
+        common::geometry(n, n, cell_m, (0.0, 0.0)),
+        |x, y, row, col| 200.0 + tilt.0 * x + tilt.1 * y + noise[row * n + col],
+    );
     let surface = SurfaceMap::uniform(SoilType::new(3).unwrap(), 0.0, 0.0, 0.0);
     Terrain::new(Dem::new(grid).unwrap(), surface).unwrap()
 }

@@ -8,11 +8,13 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
+mod common;
+
 use rand::RngExt;
 use rockfall_forest::{Forest, Species, Stem};
 use rockfall_lumped::body::RockBody;
 use rockfall_lumped::{G_MS2, LumpedModel, RunOptions};
-use rockfall_raster::{Field, Grid, GridGeometry};
+use rockfall_raster::{Field, Grid};
 use rockfall_results::{Event, Layout, Results, RunInfo, TrajectoryRow};
 use rockfall_scenario::{
     BlockShape, ForestSpec, LumpedSettings, MohMode, Release, ReleasePoint, RockSpec, Scenario,
@@ -32,17 +34,10 @@ fn terrain(
     rg: [f64; 3],
     r_n: Option<f64>,
 ) -> Terrain {
-    let geometry = GridGeometry {
-        ncols,
-        nrows,
-        x_min_m: 0.0,
-        y_min_m: 0.0,
-        cell_size_m: cell_m,
-    };
-    let grid = Grid::from_fn(geometry, |row, col| {
-        let (x, y) = geometry.cell_center(row, col);
-        Some(f(x, y))
-    });
+    let grid = common::dem(
+        common::geometry(ncols, nrows, cell_m, (0.0, 0.0)),
+        |x, y, _, _| f(x, y),
+    );
     let mut surface = SurfaceMap::uniform(SoilType::new(4).unwrap(), rg[0], rg[1], rg[2]);
     surface.r_n = r_n.map(Field::Const);
     Terrain::new(Dem::new(grid).unwrap(), surface).unwrap()
@@ -77,11 +72,10 @@ fn exact() -> LumpedSettings {
 fn run(s: &Scenario, forest: Option<&Forest>, trajectories: u64) -> Results {
     let model = LumpedModel::new(s, forest).unwrap();
     let layout = Arc::new(Layout {
-        geometry: *s.terrain.dem.geometry(),
         crs: None,
-        screens: s.screens.clone(),
         percentiles: vec![50.0, 95.0],
         trajectories,
+        ..Layout::of(s)
     });
     let opts = RunOptions {
         threads: 2,
@@ -317,21 +311,14 @@ fn rock_in_a_hollow_comes_to_rest() {
 fn rough_site(seed: u64) -> (Scenario, Forest) {
     let mut rng = rockfall_rng::stream(seed, rockfall_rng::Purpose::Sampling, &[99]);
     let (n, cell) = (50usize, 2.0);
-    let geometry = GridGeometry {
-        ncols: n,
-        nrows: n,
-        x_min_m: 1000.0,
-        y_min_m: 5000.0,
-        cell_size_m: cell,
-    };
+    let geometry = common::geometry(n, n, cell, (1000.0, 5000.0));
     let tan = 35f64.to_radians().tan();
     let noise: Vec<f64> = (0..n * n)
         .map(|_| 0.5 * (2.0 * rng.random::<f64>() - 1.0))
         .collect();
-    let grid = Grid::from_fn(geometry, |row, col| {
-        let (_, y) = geometry.cell_center(row, col);
+    let grid = common::dem(geometry, |_, y, row, col| {
         let above_foot = (y - 5020.0).max(0.0);
-        Some(300.0 + tan * above_foot + noise[row * n + col])
+        300.0 + tan * above_foot + noise[row * n + col]
     });
     let per_cell = |lo: f64, hi: f64, rng: &mut rockfall_rng::Rng| {
         let g = Grid::from_fn(geometry, |_, _| Some(lo + (hi - lo) * rng.random::<f64>()));

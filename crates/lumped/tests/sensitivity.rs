@@ -90,11 +90,11 @@ fn forest(s: &Scenario, spacing_m: f64, dbh_cm: f64) -> (Scenario, Forest) {
 fn run(s: &Scenario, forest: Option<&Forest>) -> Results {
     let model = LumpedModel::new(s, forest).unwrap();
     let layout = Arc::new(Layout {
-        geometry: geometry(),
         crs: None,
         screens: Vec::new(),
         percentiles: vec![50.0, 95.0],
         trajectories: 0,
+        ..Layout::of(s)
     });
     let tally = model.run(layout.clone(), &RunOptions::default()).unwrap();
     let res = Results::new(&layout, tally, RunInfo::default());

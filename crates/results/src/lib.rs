@@ -53,7 +53,7 @@ pub use tally::Tally;
 pub use write::{ResultsError, TRAJECTORY_HEADER};
 
 use rockfall_raster::{Crs, GridGeometry};
-use rockfall_scenario::Screen;
+use rockfall_scenario::{Scenario, Screen};
 
 /// What the tallies need to know about the run before it starts.
 #[derive(Debug, Clone)]
@@ -69,6 +69,21 @@ pub struct Layout {
     pub percentiles: Vec<f64>,
     /// Rocks with `rock_id < trajectories` have their trajectory recorded.
     pub trajectories: u64,
+}
+
+impl Layout {
+    /// The layout of a run of `scenario`: the DEM's grid and CRS, its screens, energy
+    /// percentiles and number of recorded trajectories.
+    pub fn of(scenario: &Scenario) -> Layout {
+        let dem = &scenario.terrain.dem;
+        Layout {
+            geometry: *dem.geometry(),
+            crs: dem.crs().cloned(),
+            screens: scenario.screens.clone(),
+            percentiles: scenario.output.percentiles.clone(),
+            trajectories: scenario.output.trajectories,
+        }
+    }
 }
 
 /// A rock leaves its release position.
