@@ -13,8 +13,8 @@ use crate::{InputError, scenario_error, trees};
 use rockfall_forest::StandOptions;
 use rockfall_raster::{Field, Grid, ascii_grid};
 use rockfall_scenario::{
-    ContactSettings, Engine, ForestSpec, LumpedSettings, Nets, OutputSettings, Release, RockShape,
-    RockSpec, Scenario, SimulationSettings, Stands,
+    ContactSettings, Engine, ForestSpec, LumpedSettings, Nets, OutputSettings, Release,
+    RigidParams, RockShape, RockSpec, Scenario, SimulationSettings, Stands,
 };
 use rockfall_terrain::{Dem, SurfaceMap, Terrain};
 use std::collections::BTreeMap;
@@ -165,6 +165,7 @@ pub fn read_folder(dir: &Path) -> Result<Scenario, InputError> {
         },
         screens: Vec::new(),
         lumped: LumpedSettings::default(),
+        rigid: RigidParams::default(),
         contact: ContactSettings::default(),
         simulation: SimulationSettings::default(),
         output: OutputSettings::default(),

@@ -6,7 +6,7 @@ use rockfall_forest::StandOptions;
 use rockfall_raster::{Crs, Field, Grid, read_grid};
 use rockfall_scenario::{
     BlockShape, ContactParams, ContactSettings, Engine, ForestSpec, LumpedSettings, Nets,
-    OutputSettings, Release, ReleasePoint, RockShape, RockSpec, Scenario, Screen,
+    OutputSettings, Release, ReleasePoint, RigidParams, RockShape, RockSpec, Scenario, Screen,
     SimulationSettings, Slippage, Stands,
 };
 use rockfall_terrain::{Dem, SurfaceMap, Terrain};
@@ -108,6 +108,7 @@ impl Resolver {
             })
             .collect();
         let lumped = self.lumped(f.lumped)?;
+        let rigid = rigid(f.rigid);
         let contact = contact(f.contact);
         let simulation = simulation(f.simulation);
         let output = output(f.output);
@@ -127,6 +128,7 @@ impl Resolver {
             release,
             screens,
             lumped,
+            rigid,
             contact,
             simulation,
             output,
@@ -349,6 +351,22 @@ impl Resolver {
                 .unwrap_or(d.max_lateral_deviation_deg),
             stop_velocity_ms: l.stop_velocity_ms.unwrap_or(d.stop_velocity_ms),
         })
+    }
+}
+
+fn rigid(r: Option<schema::RigidSec>) -> RigidParams {
+    let d = RigidParams::default();
+    let Some(r) = r else { return d };
+    RigidParams {
+        solver_alpha: r.solver_alpha.unwrap_or(d.solver_alpha),
+        solver_tolerance_ms: r.solver_tolerance_ms.unwrap_or(d.solver_tolerance_ms),
+        solver_max_iterations: r.solver_max_iterations.unwrap_or(d.solver_max_iterations),
+        warm_start: r.warm_start.unwrap_or(d.warm_start),
+        stop_speed_ms: r.stop_speed_ms.unwrap_or(d.stop_speed_ms),
+        rest_time_s: r.rest_time_s.unwrap_or(d.rest_time_s),
+        max_speed_ms: r.max_speed_ms.unwrap_or(d.max_speed_ms),
+        linear_damping_per_s: r.linear_damping_per_s.unwrap_or(d.linear_damping_per_s),
+        angular_damping_per_s: r.angular_damping_per_s.unwrap_or(d.angular_damping_per_s),
     }
 }
 

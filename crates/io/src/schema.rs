@@ -29,6 +29,7 @@ pub struct File {
     #[serde(default)]
     pub screens: Vec<ScreenSec>,
     pub lumped: Option<LumpedSec>,
+    pub rigid: Option<RigidSec>,
     pub contact: Option<ContactSec>,
     pub simulation: Option<SimulationSec>,
     pub output: Option<OutputSec>,
@@ -109,6 +110,20 @@ pub struct NetsSec {
 pub struct ScreenSec {
     pub name: String,
     pub points_m: Vec<[f64; 2]>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigidSec {
+    pub solver_alpha: Option<f64>,
+    pub solver_tolerance_ms: Option<f64>,
+    pub solver_max_iterations: Option<u32>,
+    pub warm_start: Option<bool>,
+    pub stop_speed_ms: Option<f64>,
+    pub rest_time_s: Option<f64>,
+    pub max_speed_ms: Option<f64>,
+    pub linear_damping_per_s: Option<f64>,
+    pub angular_damping_per_s: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -281,6 +281,20 @@ fn settings_toml(s: &Scenario, t: &mut String) {
         num(l.max_lateral_deviation_deg),
         num(l.stop_velocity_ms)
     );
+    let r = &s.rigid;
+    let _ = write!(
+        t,
+        "\n[rigid]\nsolver_alpha = {}\nsolver_tolerance_ms = {}\nsolver_max_iterations = {}\nwarm_start = {}\nstop_speed_ms = {}\nrest_time_s = {}\nmax_speed_ms = {}\nlinear_damping_per_s = {}\nangular_damping_per_s = {}\n",
+        num(r.solver_alpha),
+        num(r.solver_tolerance_ms),
+        r.solver_max_iterations,
+        r.warm_start,
+        num(r.stop_speed_ms),
+        num(r.rest_time_s),
+        num(r.max_speed_ms),
+        num(r.linear_damping_per_s),
+        num(r.angular_damping_per_s)
+    );
     let c = &s.contact;
     for (name, p) in [("ground", c.ground), ("tree", c.tree)] {
         let _ = write!(

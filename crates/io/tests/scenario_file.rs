@@ -154,6 +154,7 @@ fn sites_round_trip_through_scenario_files() {
 
         assert_eq!((s.engine, s.seed), (site.engine, site.seed), "{name}");
         assert_eq!(s.lumped, site.lumped, "{name}");
+        assert_eq!(s.rigid, site.rigid, "{name}");
         assert_eq!(s.contact, site.contact, "{name}");
         assert_eq!(s.simulation, site.simulation, "{name}");
         assert_eq!(s.output, site.output, "{name}");
@@ -180,6 +181,59 @@ fn minimal_rigid_scenario_parses() {
     // defaults where the file is silent
     assert_eq!(s.terrain.surface.soil_type, Field::Const(4.0));
     assert!(s.forest.is_none() && s.nets.is_none() && s.screens.is_empty());
+    assert_eq!(s.rigid, rockfall_scenario::RigidParams::default());
+}
+
+#[test]
+fn rigid_engine_settings_parse_and_are_checked() {
+    let text = format!(
+        "{MINIMAL}\n[rigid]\nsolver_alpha = 1.5\nsolver_tolerance_ms = 1e-5\n\
+         solver_max_iterations = 40\nwarm_start = false\nstop_speed_ms = 0.1\n\
+         rest_time_s = 1\nmax_speed_ms = 200\nlinear_damping_per_s = 0.01\n\
+         angular_damping_per_s = 0.02\n"
+    );
+    let r = loads(&text).rigid;
+    assert_eq!(
+        (
+            r.solver_alpha,
+            r.solver_tolerance_ms,
+            r.solver_max_iterations,
+            r.warm_start
+        ),
+        (1.5, 1e-5, 40, false)
+    );
+    assert_eq!(
+        (r.stop_speed_ms, r.rest_time_s, r.max_speed_ms),
+        (0.1, 1.0, 200.0)
+    );
+    assert_eq!(
+        (r.linear_damping_per_s, r.angular_damping_per_s),
+        (0.01, 0.02)
+    );
+    fails(
+        &edit(&text, "solver_alpha = 1.5", "solver_alpha = 2.0"),
+        &["rigid.solver_alpha", "2"],
+    );
+    fails(
+        &edit(
+            &text,
+            "solver_max_iterations = 40",
+            "solver_max_iterations = 0",
+        ),
+        &["rigid.solver_max_iterations"],
+    );
+    fails(
+        &edit(
+            &text,
+            "linear_damping_per_s = 0.01",
+            "linear_damping_per_s = -1",
+        ),
+        &["rigid.linear_damping_per_s"],
+    );
+    fails(
+        &edit(&text, "warm_start = false", "warm_starts = false"),
+        &["warm_starts"],
+    );
 }
 
 #[test]

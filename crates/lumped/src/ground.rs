@@ -6,7 +6,7 @@ use crate::walk::Walk;
 use crate::{G_MS2, LumpedError, V3};
 use rockfall_raster::GridGeometry;
 use rockfall_scenario::Nets;
-use rockfall_terrain::Terrain;
+use rockfall_terrain::{Lattice, Terrain};
 
 /// Surface and net parameters of one DEM cell.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,22 +26,18 @@ pub struct CellParams {
 }
 
 /// Height and gradient of the ground at a point.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Surf {
-    /// Ground height, m.
-    pub z_m: f64,
-    /// ∂z/∂x.
-    pub dzdx: f64,
-    /// ∂z/∂y.
-    pub dzdy: f64,
+pub use rockfall_terrain::SurfacePoint as Surf;
+
+/// The upward unit normal of a [`Surf`] as a [`V3`].
+pub trait SurfNormal {
+    /// Upward unit normal.
+    fn normal_v3(&self) -> V3;
 }
 
-impl Surf {
-    /// Upward unit normal.
+impl SurfNormal for Surf {
     #[inline]
-    pub fn normal(&self) -> V3 {
-        let inv = 1.0 / (1.0 + self.dzdx * self.dzdx + self.dzdy * self.dzdy).sqrt();
-        V3::new(-self.dzdx * inv, -self.dzdy * inv, inv)
+    fn normal_v3(&self) -> V3 {
+        V3::from_array(self.normal())
     }
 }
 
@@ -65,60 +61,38 @@ pub enum FlightEnd {
 /// The engine's terrain.
 #[derive(Debug, Clone)]
 pub struct Ground {
-    geometry: GridGeometry,
-    h: f64,
-    inv_h: f64,
-    /// x, y of the south-west cell centre (origin of the patch lattice), m.
-    x0: f64,
-    y0: f64,
-    /// Heights at cell centres, rows from the south (`j·ncols + i`); NaN for nodata.
-    z_south: Vec<f64>,
+    lattice: Lattice,
     cells: Vec<CellParams>,
 }
 
 impl Ground {
     /// Gathers the DEM, the surface map and the optional nets.
     pub fn new(terrain: &Terrain, nets: Option<&Nets>) -> Result<Ground, LumpedError> {
-        let geometry = *terrain.dem.geometry();
+        let lattice = Lattice::new(&terrain.dem);
+        let geometry = *lattice.geometry();
         let grid = terrain.dem.grid();
-        let (ncols, nrows) = (geometry.ncols, geometry.nrows);
-        let mut z_south = vec![f64::NAN; ncols * nrows];
-        let mut cells = Vec::with_capacity(ncols * nrows);
-        for row in 0..nrows {
-            for col in 0..ncols {
-                let j = nrows - 1 - row;
-                let z = grid.get(row, col);
-                if let Some(z) = z {
-                    z_south[j * ncols + col] = z;
-                }
-                let params = match z {
+        let mut cells = Vec::with_capacity(geometry.ncols * geometry.nrows);
+        for row in 0..geometry.nrows {
+            for col in 0..geometry.ncols {
+                let params = match grid.get(row, col) {
                     None => CellParams::NONE,
                     Some(_) => cell_params(terrain, nets, row, col)?,
                 };
                 cells.push(params);
             }
         }
-        let h = geometry.cell_size_m;
-        Ok(Ground {
-            geometry,
-            h,
-            inv_h: 1.0 / h,
-            x0: geometry.x_min_m + 0.5 * h,
-            y0: geometry.y_min_m + 0.5 * h,
-            z_south,
-            cells,
-        })
+        Ok(Ground { lattice, cells })
     }
 
     /// The DEM's grid.
     pub fn geometry(&self) -> &GridGeometry {
-        &self.geometry
+        self.lattice.geometry()
     }
 
     /// Cell size, m.
     #[inline]
     pub fn cell_size_m(&self) -> f64 {
-        self.h
+        self.lattice.cell_size_m()
     }
 
     /// Parameters of cell `index` (row-major).
@@ -130,79 +104,25 @@ impl Ground {
     /// Row-major index of the valid cell containing (x, y).
     #[inline]
     pub fn cell_index(&self, x_m: f64, y_m: f64) -> Option<usize> {
-        let g = &self.geometry;
-        let c = ((x_m - g.x_min_m) * self.inv_h).floor();
-        let r_south = ((y_m - g.y_min_m) * self.inv_h).floor();
-        if !(c >= 0.0 && r_south >= 0.0) || c >= g.ncols as f64 || r_south >= g.nrows as f64 {
-            return None;
-        }
-        let (c, j) = (c as usize, r_south as usize);
-        self.z_south[j * g.ncols + c]
-            .is_finite()
-            .then(|| (g.nrows - 1 - j) * g.ncols + c)
+        self.lattice.cell_index(x_m, y_m)
     }
 
     /// DEM value at the centre of cell `index`, m (NaN for nodata).
     #[inline]
     pub fn cell_z(&self, index: usize) -> f64 {
-        let (row, col) = (index / self.geometry.ncols, index % self.geometry.ncols);
-        self.z_south[(self.geometry.nrows - 1 - row) * self.geometry.ncols + col]
-    }
-
-    /// Coefficients `(z00, a, b, c)` of patch (i, j) (see `BilinearPatch`), `None` outside
-    /// the surface or where a corner is nodata.
-    #[inline]
-    fn patch(&self, i: i64, j: i64) -> Option<(f64, f64, f64, f64)> {
-        let n = self.geometry.ncols as i64;
-        if i < 0 || j < 0 || i + 1 >= n || j + 1 >= self.geometry.nrows as i64 {
-            return None;
-        }
-        let k = (j * n + i) as usize;
-        let n = n as usize;
-        let (z00, z10, z01, z11) = (
-            self.z_south[k],
-            self.z_south[k + 1],
-            self.z_south[k + n],
-            self.z_south[k + n + 1],
-        );
-        let c = (z00 - z10 - z01 + z11, z00 + z10 + z01 + z11);
-        c.1.is_finite().then_some((z00, z10 - z00, z01 - z00, c.0))
-    }
-
-    /// Patch indices of (x, y), with the rims (within 10⁻⁶ of a cell) inside.
-    #[inline]
-    fn patch_of(&self, x_m: f64, y_m: f64) -> Option<(i64, i64, f64, f64)> {
-        let u = (x_m - self.x0) * self.inv_h;
-        let v = (y_m - self.y0) * self.inv_h;
-        let (mu, mv) = (
-            (self.geometry.ncols - 1) as f64,
-            (self.geometry.nrows - 1) as f64,
-        );
-        const TOL: f64 = 1e-6;
-        if !(u >= -TOL && v >= -TOL && u <= mu + TOL && v <= mv + TOL) {
-            return None;
-        }
-        let i = (u.max(0.0).floor() as i64).min(mu as i64 - 1);
-        let j = (v.max(0.0).floor() as i64).min(mv as i64 - 1);
-        Some((i, j, u - i as f64, v - j as f64))
+        self.lattice.cell_z(index)
     }
 
     /// Ground height and gradient at (x, y); `None` off the surface.
     #[inline]
     pub fn surface(&self, x_m: f64, y_m: f64) -> Option<Surf> {
-        let (i, j, u, v) = self.patch_of(x_m, y_m)?;
-        let (z00, a, b, c) = self.patch(i, j)?;
-        Some(Surf {
-            z_m: z00 + a * u + b * v + c * u * v,
-            dzdx: (a + c * v) * self.inv_h,
-            dzdy: (b + c * u) * self.inv_h,
-        })
+        self.lattice.surface(x_m, y_m)
     }
 
     /// Ground height at (x, y), m; `None` off the surface.
     #[inline]
     pub fn height_m(&self, x_m: f64, y_m: f64) -> Option<f64> {
-        self.surface(x_m, y_m).map(|s| s.z_m)
+        self.lattice.height_m(x_m, y_m)
     }
 
     /// The first time the rock centre, flying from `p` with velocity `v` under gravity, comes
@@ -214,14 +134,16 @@ impl Ground {
     /// point of a rebound (gap increasing) is not one. Accuracy: the rounding of the
     /// quadratic's roots, ≈10⁻¹² s relative.
     pub fn fly(&self, p: V3, v: V3, offset_m: f64, t_max_s: f64) -> FlightEnd {
-        let g = &self.geometry;
-        let mut walk = Walk::new((self.x0, self.y0), self.h, (p.x, p.y), (v.x, v.y), t_max_s);
+        let lat = &self.lattice;
+        let g = lat.geometry();
+        let ((x0, y0), h, inv_h) = (lat.origin_m(), lat.cell_size_m(), lat.inv_cell_size());
+        let mut walk = Walk::new((x0, y0), h, (p.x, p.y), (v.x, v.y), t_max_s);
         walk.clamp_start(g.ncols as i64 - 2, g.nrows as i64 - 2);
         let half_g = 0.5 * G_MS2;
-        let (du, dv) = (v.x * self.inv_h, v.y * self.inv_h);
-        let (u0, v0) = ((p.x - self.x0) * self.inv_h, (p.y - self.y0) * self.inv_h);
+        let (du, dv) = (v.x * inv_h, v.y * inv_h);
+        let (u0, v0) = ((p.x - x0) * inv_h, (p.y - y0) * inv_h);
         for piece in walk {
-            let Some((z00, a, b, c)) = self.patch(piece.i, piece.j) else {
+            let Some((z00, a, b, c)) = lat.patch(piece.i, piece.j) else {
                 return FlightEnd::Exit { t_s: piece.s_a };
             };
             // offset surface along the path: S(t) = s0 + s1 t + s2 t²
@@ -243,7 +165,7 @@ impl Ground {
 
     /// Up to eight neighbours of cell `index` with a valid height: (index, dx, dy) in cells.
     pub fn neighbours(&self, index: usize) -> impl Iterator<Item = (usize, i64, i64)> + '_ {
-        let (nc, nr) = (self.geometry.ncols as i64, self.geometry.nrows as i64);
+        let (nc, nr) = (self.geometry().ncols as i64, self.geometry().nrows as i64);
         let (row, col) = ((index / nc as usize) as i64, (index % nc as usize) as i64);
         NEIGHBOURS.iter().filter_map(move |&(dc, dr_north)| {
             let (r, c) = (row - dr_north, col + dc);
@@ -258,8 +180,8 @@ impl Ground {
     /// Centre of cell `index`, m.
     #[inline]
     pub fn cell_center(&self, index: usize) -> (f64, f64) {
-        let n = self.geometry.ncols;
-        self.geometry.cell_center(index / n, index % n)
+        let n = self.geometry().ncols;
+        self.geometry().cell_center(index / n, index % n)
     }
 }
 

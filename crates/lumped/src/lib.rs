@@ -31,11 +31,11 @@ use body::RockBody;
 use forestry::Trees;
 use ground::Ground;
 use rockfall_forest::Forest;
-use rockfall_results::{Layout, ScreenSet, Tally};
+pub use rockfall_results::RunOptions;
+use rockfall_results::{Layout, ScreenSet, Tally, run_rocks};
 use rockfall_rng::Purpose;
 use rockfall_scenario::{LumpedSettings, Scenario};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
 use trajectory::{Launch, Scratch, World, simulate};
 
 /// Standard gravity, m/s².
@@ -95,15 +95,6 @@ pub struct Source {
     pub key: [u64; 2],
     /// Rocks released.
     pub rocks: u64,
-}
-
-/// How to run.
-#[derive(Clone, Copy, Default)]
-pub struct RunOptions<'a> {
-    /// Worker threads (0: all cores).
-    pub threads: usize,
-    /// Called from the workers with the number of rocks just finished.
-    pub progress: Option<&'a (dyn Fn(u64) + Sync)>,
 }
 
 /// A scenario prepared for the lumped engine.
@@ -181,12 +172,8 @@ impl<'f> LumpedModel<'f> {
         (launch, [src.key[0], src.key[1], k])
     }
 
-    /// Simulates every rock on `threads` workers into one tally.
+    /// Simulates every rock on `opts.threads` workers into one tally.
     pub fn run(&self, layout: Arc<Layout>, opts: &RunOptions<'_>) -> Result<Tally, LumpedError> {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(opts.threads)
-            .build()
-            .map_err(|_| LumpedError::Threads(opts.threads))?;
         let world = World {
             ground: &self.ground,
             trees: self.trees.as_ref(),
@@ -194,34 +181,19 @@ impl<'f> LumpedModel<'f> {
             settings: &self.settings,
             max_time_s: self.max_time_s,
         };
-        let total = self.rocks();
-        let next = AtomicU64::new(0);
-        let tallies = pool.broadcast(|_| {
-            let mut tally = Tally::new(layout.clone());
-            let mut scratch = Scratch::default();
-            loop {
-                let start = next.fetch_add(CHUNK, Ordering::Relaxed);
-                if start >= total {
-                    break;
-                }
-                let end = (start + CHUNK).min(total);
-                for id in start..end {
-                    let (launch, key) = self.launch(id);
-                    let mut rng = rockfall_rng::stream(self.seed, Purpose::Rock, &key);
-                    simulate(&world, &launch, &mut rng, &mut tally, &mut scratch);
-                }
-                if let Some(progress) = opts.progress {
-                    progress(end - start);
-                }
-            }
-            tally
-        });
-        let mut tallies = tallies.into_iter();
-        let mut merged = tallies.next().unwrap_or_else(|| Tally::new(layout.clone()));
-        for t in tallies {
-            merged.merge(t);
-        }
-        Ok(merged)
+        run_rocks(
+            &layout,
+            self.rocks(),
+            CHUNK,
+            opts,
+            Scratch::default,
+            |id, tally, scratch| {
+                let (launch, key) = self.launch(id);
+                let mut rng = rockfall_rng::stream(self.seed, Purpose::Rock, &key);
+                simulate(&world, &launch, &mut rng, tally, scratch);
+            },
+        )
+        .map_err(|e| LumpedError::Threads(e.0))
     }
 }
 

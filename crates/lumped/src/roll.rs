@@ -25,6 +25,7 @@
 
 use crate::body::RockBody;
 use crate::ground::Ground;
+use crate::ground::SurfNormal;
 use crate::{G_MS2, V3};
 
 /// Result of one rolling step.
@@ -95,7 +96,7 @@ pub fn roll_step(ground: &Ground, body: &RockBody, p: V3, v: V3, input: &RollInp
     let Some(s0) = ground.surface(p.x, p.y) else {
         return RollStep::Exit;
     };
-    let n0 = s0.normal();
+    let n0 = s0.normal_v3();
     let g_t = V3::new(0.0, 0.0, -G_MS2) + n0 * (G_MS2 * n0.z);
     let speed = v.norm();
     let resist = mu_r * G_MS2 * n0.z;
@@ -126,7 +127,7 @@ pub fn roll_step(ground: &Ground, body: &RockBody, p: V3, v: V3, input: &RollInp
     let p1 = V3::new(x1, y1, s1.z_m + r);
     let dz = p1.z - p.z;
     let path = (step.x * step.x + step.y * step.y + dz * dz).sqrt();
-    let n1 = s1.normal();
+    let n1 = s1.normal_v3();
     let nz = 0.5 * (n0.z + n1.z);
     let v2 = speed * speed + 2.0 * k * (-G_MS2 * dz - mu_r * G_MS2 * nz * path);
     if v2 <= 0.0 {

@@ -6,6 +6,7 @@
 use crate::body::RockBody;
 use crate::direction::draw_direction;
 use crate::forestry::Trees;
+use crate::ground::SurfNormal;
 use crate::ground::{FlightEnd, Ground};
 use crate::rebound::{clearing_speed2, compose, hop, rebound};
 use crate::roll::{
@@ -225,7 +226,7 @@ impl Rock<'_, '_, '_> {
         let Some(s) = self.world.ground.surface(self.p.x, self.p.y) else {
             return;
         };
-        let n = s.normal();
+        let n = s.normal_v3();
         let gap = self.p.z - (s.z_m + self.body.radius_m);
         if gap <= 1e-9 && self.v.dot(n) <= 1e-9 {
             self.p.z = s.z_m + self.body.radius_m;
@@ -269,7 +270,7 @@ impl Rock<'_, '_, '_> {
             Cut::None => match end {
                 FlightEnd::Land { .. } if dur < 1e-6 => {
                     // touching down where it took off: the rock runs along the ground
-                    let n = self.world.ground.surface(self.p.x, self.p.y)?.normal();
+                    let n = self.world.ground.surface(self.p.x, self.p.y)?.normal_v3();
                     self.start_rolling(n);
                     self.hold_ground = true;
                     None
@@ -291,7 +292,7 @@ impl Rock<'_, '_, '_> {
             return Some(Outcome::LeftDem);
         };
         self.p.z = s.z_m + self.body.radius_m;
-        let n_true = s.normal();
+        let n_true = s.normal_v3();
         let settings = self.world.settings;
         let reb = rebound(
             &self.body,
@@ -357,7 +358,7 @@ impl Rock<'_, '_, '_> {
         if self.moved && moh > 0.0 {
             let n = ground
                 .surface(self.p.x, self.p.y)
-                .map_or(V3::UP, |s| s.normal());
+                .map_or(V3::UP, |s| s.normal_v3());
             if !holds_rolling_rock(n, mu) && self.v.norm2() >= clearing_speed2(moh, n.z) {
                 self.rolling = false;
                 return self.rebound();
@@ -406,7 +407,7 @@ impl Rock<'_, '_, '_> {
             // a step cut short lies on the chord: put the rock back on the ground
             self.p.z = s.z_m + self.body.radius_m;
         }
-        let n = surface.map(|s| s.normal());
+        let n = surface.map(|s| s.normal_v3());
         self.w = n.map_or(V3::ZERO, |n| rolling_spin(self.v, n, self.body.radius_m));
         match cut {
             Cut::Tree(stem) => return self.tree_impact(stem),
@@ -445,7 +446,7 @@ impl Rock<'_, '_, '_> {
         self.v = rotate_horizontal(self.v * keep, side * deviation);
         self.w = self.w * keep;
         if self.rolling {
-            let n = self.world.ground.surface(self.p.x, self.p.y)?.normal();
+            let n = self.world.ground.surface(self.p.x, self.p.y)?.normal_v3();
             self.start_rolling(n);
         }
         self.impacts += 1;

@@ -39,6 +39,7 @@
 mod cells;
 mod forest_effect;
 mod hist;
+mod parallel;
 mod results;
 mod screens;
 mod summary;
@@ -47,6 +48,7 @@ mod write;
 
 pub use forest_effect::ForestEffect;
 pub use hist::PERCENTILE_RELATIVE_ERROR;
+pub use parallel::{PoolError, RunOptions, run_rocks};
 pub use results::{Results, RunInfo};
 pub use screens::ScreenSet;
 pub use tally::Tally;

@@ -22,7 +22,7 @@ mod validate;
 
 pub use error::ScenarioError;
 pub use params::{
-    ContactParams, ContactSettings, Engine, LumpedSettings, MohMode, OutputSettings,
+    ContactParams, ContactSettings, Engine, LumpedSettings, MohMode, OutputSettings, RigidParams,
     SimulationSettings, Slippage,
 };
 pub use release::{Release, ReleasePoint};
@@ -128,6 +128,8 @@ pub struct Scenario {
     pub screens: Vec<Screen>,
     /// Settings of the lumped engine (seed 000).
     pub lumped: LumpedSettings,
+    /// Settings of the rigid engine (seed 001) beyond contact laws and time step.
+    pub rigid: RigidParams,
     /// Contact parameters of the rigid engine (seed 001).
     pub contact: ContactSettings,
     /// Time step, limits and numbers of rocks.
@@ -155,6 +157,7 @@ impl Scenario {
             release,
             screens: Vec::new(),
             lumped: LumpedSettings::default(),
+            rigid: RigidParams::default(),
             contact: ContactSettings::default(),
             simulation: SimulationSettings::default(),
             output: OutputSettings::default(),

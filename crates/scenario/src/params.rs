@@ -142,6 +142,47 @@ impl Default for ContactSettings {
     }
 }
 
+/// Settings of the rigid engine beyond its contact laws and time step: the prox solver (seed
+/// 001 §2; Leine et al. 2014), when a rock is at rest, and optional damping.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigidParams {
+    /// Relaxation α ∈ (0, 2) of the prox r-factors r = α/G_ii (default 1).
+    pub solver_alpha: f64,
+    /// Convergence tolerance of the prox iteration on contact velocities, m/s (default 1e-6).
+    pub solver_tolerance_ms: f64,
+    /// Largest number of prox sweeps per time step (default 100).
+    pub solver_max_iterations: u32,
+    /// Start the prox iteration from the previous step's percussions (default true).
+    pub warm_start: bool,
+    /// A rock touching the ground with centre speed and |ω|·circumradius below this …, m/s
+    /// (default 0.05) …
+    pub stop_speed_ms: f64,
+    /// … for this long in a row is at rest, s (default 0.5).
+    pub rest_time_s: f64,
+    /// A speed above this is a numerical failure that ends the rock, m/s (default 500).
+    pub max_speed_ms: f64,
+    /// Linear damping rate of the free motion, 1/s (default 0).
+    pub linear_damping_per_s: f64,
+    /// Angular damping rate of the free rotation, 1/s (default 0).
+    pub angular_damping_per_s: f64,
+}
+
+impl Default for RigidParams {
+    fn default() -> Self {
+        RigidParams {
+            solver_alpha: 1.0,
+            solver_tolerance_ms: 1e-6,
+            solver_max_iterations: 100,
+            warm_start: true,
+            stop_speed_ms: 0.05,
+            rest_time_s: 0.5,
+            max_speed_ms: 500.0,
+            linear_damping_per_s: 0.0,
+            angular_damping_per_s: 0.0,
+        }
+    }
+}
+
 /// Time stepping, limits and numbers of rocks.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimulationSettings {

@@ -222,6 +222,67 @@ impl Scenario {
         Ok(())
     }
 
+    fn check_rigid(&self) -> Check {
+        let r = &self.rigid;
+        let nonneg = |x: f64| x >= 0.0 && x.is_finite();
+        let checks: [(&str, f64, bool, &str); 8] = [
+            (
+                "rigid.solver_alpha",
+                r.solver_alpha,
+                r.solver_alpha > 0.0 && r.solver_alpha < 2.0,
+                "0 < α < 2",
+            ),
+            (
+                "rigid.solver_tolerance_ms",
+                r.solver_tolerance_ms,
+                r.solver_tolerance_ms > 0.0 && r.solver_tolerance_ms.is_finite(),
+                "> 0 m/s",
+            ),
+            (
+                "rigid.solver_max_iterations",
+                f64::from(r.solver_max_iterations),
+                r.solver_max_iterations >= 1,
+                "≥ 1",
+            ),
+            (
+                "rigid.stop_speed_ms",
+                r.stop_speed_ms,
+                nonneg(r.stop_speed_ms),
+                "≥ 0 m/s",
+            ),
+            (
+                "rigid.rest_time_s",
+                r.rest_time_s,
+                nonneg(r.rest_time_s),
+                "≥ 0 s",
+            ),
+            (
+                "rigid.max_speed_ms",
+                r.max_speed_ms,
+                r.max_speed_ms > 0.0 && !r.max_speed_ms.is_nan(),
+                "> 0 m/s",
+            ),
+            (
+                "rigid.linear_damping_per_s",
+                r.linear_damping_per_s,
+                nonneg(r.linear_damping_per_s),
+                "≥ 0 1/s",
+            ),
+            (
+                "rigid.angular_damping_per_s",
+                r.angular_damping_per_s,
+                nonneg(r.angular_damping_per_s),
+                "≥ 0 1/s",
+            ),
+        ];
+        for (name, value, ok, expected) in checks {
+            if !ok {
+                return Err(out_of_range(name, None, value, expected));
+            }
+        }
+        Ok(())
+    }
+
     fn check_settings(&self) -> Check {
         let l = &self.lumped;
         let s = &self.simulation;
@@ -280,6 +341,7 @@ impl Scenario {
                 return Err(out_of_range(name, None, value, expected));
             }
         }
+        self.check_rigid()?;
         let c = &self.contact;
         for (name, p) in [("contact.ground", c.ground), ("contact.tree", c.tree)] {
             if !(p.mu >= 0.0 && p.mu.is_finite()) {

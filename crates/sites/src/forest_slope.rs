@@ -23,7 +23,7 @@ use rockfall_forest::{Species, StandCell, StandOptions, expand_stands};
 use rockfall_raster::GridGeometry;
 use rockfall_scenario::{
     ContactParams, ContactSettings, Engine, ForestSpec, LumpedSettings, OutputSettings, Release,
-    ReleasePoint, RockSpec, Scenario, Screen, SimulationSettings, Slippage,
+    ReleasePoint, RigidParams, RockSpec, Scenario, Screen, SimulationSettings, Slippage,
 };
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
 use std::collections::BTreeMap;
@@ -113,6 +113,7 @@ pub fn build() -> Result<Scenario, SiteError> {
             points_m: vec![[0.0, y_top - foot_d], [WIDTH_M, y_top - foot_d]],
         }],
         lumped: LumpedSettings::default(),
+        rigid: RigidParams::default(),
         contact: ContactSettings {
             ground: ContactParams {
                 mu: 0.2,

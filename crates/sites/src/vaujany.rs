@@ -38,8 +38,8 @@ use rockfall_forest::{Species, StandCell, StandOptions, expand_stands};
 use rockfall_raster::{Crs, Field, Grid, GridGeometry};
 use rockfall_rng::{Purpose, stream};
 use rockfall_scenario::{
-    ContactSettings, Engine, ForestSpec, LumpedSettings, OutputSettings, Release, RockSpec,
-    Scenario, Screen, SimulationSettings,
+    ContactSettings, Engine, ForestSpec, LumpedSettings, OutputSettings, Release, RigidParams,
+    RockSpec, Scenario, Screen, SimulationSettings,
 };
 use rockfall_terrain::{Dem, SurfaceMap, Terrain};
 use std::collections::BTreeMap;
@@ -200,6 +200,7 @@ pub fn build(site: Site) -> Result<Scenario, SiteError> {
         release,
         screens,
         lumped: LumpedSettings::default(),
+        rigid: RigidParams::default(),
         contact: ContactSettings::default(),
         simulation: SimulationSettings {
             rocks_per_cell: 10_000,

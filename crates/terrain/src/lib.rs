@@ -9,16 +9,19 @@
 //! - [`SurfaceMap`]: per-cell surface parameters of seed 000 — the soil type class (0–7,
 //!   mapped to the normal coefficient of restitution r_n as in Rockyfor3D, [`SoilType`]) and
 //!   the obstacle heights of the 70 / 20 / 10 % cover classes (rg70, rg20, rg10, m).
+//! - [`Lattice`]: the same surface in a flat south-up array, for the engines' inner loops.
 //! - [`Terrain`]: both together, checked to share one grid.
 
 mod dem;
 mod error;
+mod lattice;
 mod patch;
 mod soil;
 mod surface;
 
 pub use dem::{Dem, SurfacePoint};
 pub use error::TerrainError;
+pub use lattice::{Lattice, PatchCoefficients};
 pub use patch::BilinearPatch;
 pub use soil::SoilType;
 pub use surface::{CellSurface, SurfaceMap};
