@@ -48,6 +48,10 @@ pub enum Command {
         /// folder).
         #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
         rocks_per_cell: Option<u64>,
+        /// Rocks released per release point (≥ 1); default: the scenario's
+        /// (`[simulation] rocks_per_point`, 1).
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        rocks_per_point: Option<u64>,
         /// Master seed fixing every random draw; default: the scenario's (1).
         #[arg(long)]
         seed: Option<u64>,

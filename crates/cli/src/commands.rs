@@ -4,7 +4,7 @@ use crate::Failure;
 use crate::args::Command;
 use crate::simulate;
 use anyhow::anyhow;
-use rockfall_scenario::Summary;
+use rockfall_scenario::{Engine, Summary};
 use std::path::Path;
 
 /// Runs a subcommand.
@@ -23,6 +23,7 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             out,
             engine,
             rocks_per_cell,
+            rocks_per_point,
             seed,
             threads,
             ascii,
@@ -35,6 +36,9 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             }
             if let Some(n) = rocks_per_cell {
                 scenario.simulation.rocks_per_cell = n;
+            }
+            if let Some(n) = rocks_per_point {
+                scenario.simulation.rocks_per_point = n;
             }
             if let Some(s) = seed {
                 scenario.seed = s;
@@ -81,9 +85,42 @@ fn forest_source(s: &rockfall_scenario::Scenario, input: &Path) -> String {
 
 fn check(input: &Path) -> Result<(), Failure> {
     let (scenario, forest) = load_checked(input)?;
+    let hull = match scenario.engine {
+        Engine::Rigid => Some(rigid_rock(&scenario)?),
+        Engine::Lumped => None,
+    };
     println!("{}: ok", input.display());
     print!("{}", Summary::new(&scenario, &forest));
+    if let Some(hull) = hull {
+        println!("{hull}");
+    }
     Ok(())
+}
+
+/// The rigid engine's rock, described in a line; an unusable shape is bad input.
+fn rigid_rock(scenario: &rockfall_scenario::Scenario) -> Result<String, Failure> {
+    let body = rockfall_rigid::shape::body_from_spec(&scenario.rock).map_err(|e| {
+        let at = scenario
+            .source_of("rock.shape")
+            .map_or(String::new(), |p| format!("{}: ", p.display()));
+        Failure::BadInput(anyhow!("{at}rock: {e}"))
+    })?;
+    let g = &body.geometry;
+    let [l1, l2, l3] = g.lengths_m;
+    Ok(format!(
+        "rigid rock: convex hull of {} vertices, {} faces; volume {:.4} m³, mass {:.1} kg; \
+         principal moments {:.4}, {:.4}, {:.4} kg m²; axis lengths {l1:.3}, {l2:.3}, {l3:.3} m; \
+         Π = {:.2} ({})",
+        g.vertices_m.len(),
+        g.triangles.len(),
+        g.volume_m3,
+        body.mass_kg,
+        body.inertia_kgm2.x,
+        body.inertia_kgm2.y,
+        body.inertia_kgm2.z,
+        g.aspect_ratio(),
+        g.class().name()
+    ))
 }
 
 fn site(name: &str, out: &Path) -> Result<(), Failure> {

@@ -7,6 +7,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rockfall_forest::Forest;
 use rockfall_lumped::{LumpedModel, RunOptions};
 use rockfall_results::{ForestEffect, Layout, Results, RunInfo};
+use rockfall_rigid::RigidModel;
 use rockfall_scenario::{Engine, Scenario};
 use serde_json::{Value, json};
 use std::io::IsTerminal;
@@ -29,46 +30,67 @@ pub fn simulate(
     threads: usize,
     label: &str,
 ) -> Result<Results, Failure> {
-    if scenario.engine == Engine::Rigid {
-        return Err(Failure::Internal(anyhow!(
-            "the rigid engine is not yet available (issue \"rigid engine\"); run with \
-             `--engine lumped`"
-        )));
-    }
-    let model = LumpedModel::new(scenario, forest).map_err(|e| {
-        let source = scenario
-            .source_of("rockdensity")
-            .or_else(|| scenario.source_of("dem"));
+    let bad_input = |e: &dyn std::fmt::Display, keys: &[&str]| {
+        let source = keys.iter().find_map(|k| scenario.source_of(k));
         let at = source.map_or(String::new(), |p| format!("{}: ", p.display()));
         Failure::BadInput(anyhow!("{at}{e}"))
-    })?;
+    };
     let layout = Arc::new(Layout::of(scenario));
-    let rocks = model.rocks();
+    let started = Instant::now();
+    let (tally, extra) = match scenario.engine {
+        Engine::Lumped => {
+            let model = LumpedModel::new(scenario, forest)
+                .map_err(|e| bad_input(&e, &["rockdensity", "dem"]))?;
+            let tally = with_progress(model.rocks(), threads, label, |opts| {
+                model.run(layout.clone(), opts)
+            })
+            .map_err(|e| Failure::Internal(e.into()))?;
+            (tally, lumped_parameters(scenario, &model))
+        }
+        Engine::Rigid => {
+            let model = RigidModel::new(scenario, forest)
+                .map_err(|e| bad_input(&e, &["rock.shape", "dem"]))?;
+            let tally = with_progress(model.rocks(), threads, label, |opts| {
+                model.run(layout.clone(), opts)
+            })
+            .map_err(|e| Failure::Internal(e.into()))?;
+            (tally, rigid_parameters(scenario, &model))
+        }
+    };
+    let info = RunInfo {
+        engine: scenario.engine.to_string(),
+        scenario: scenario.name.clone(),
+        seed: scenario.seed,
+        threads,
+        wall_time_s: started.elapsed().as_secs_f64(),
+        extra,
+    };
+    Ok(Results::new(&layout, tally, info))
+}
+
+/// Runs `run` with a progress bar over `rocks` rocks (shown on a terminal only).
+fn with_progress<T>(
+    rocks: u64,
+    threads: usize,
+    label: &str,
+    run: impl FnOnce(&RunOptions<'_>) -> T,
+) -> T {
     let bar = progress_bar(rocks, label);
     let tick = |n: u64| bar.inc(n);
     let opts = RunOptions {
         threads,
         progress: Some(&tick),
     };
-    let started = Instant::now();
-    let tally = model
-        .run(layout.clone(), &opts)
-        .map_err(|e| Failure::Internal(e.into()))?;
-    let wall_time_s = started.elapsed().as_secs_f64();
+    let out = run(&opts);
     bar.finish_and_clear();
-    let info = RunInfo {
-        engine: scenario.engine.to_string(),
-        scenario: scenario.name.clone(),
-        seed: scenario.seed,
-        threads,
-        wall_time_s,
-        extra: parameters(scenario, &model),
-    };
-    Ok(Results::new(&layout, tally, info))
+    out
 }
 
-/// Engine parameters recorded in `summary.json`.
-fn parameters(scenario: &Scenario, model: &LumpedModel<'_>) -> serde_json::Map<String, Value> {
+/// Engine parameters of a lumped run recorded in `summary.json`.
+fn lumped_parameters(
+    scenario: &Scenario,
+    model: &LumpedModel<'_>,
+) -> serde_json::Map<String, Value> {
     let l = &scenario.lumped;
     let first = model.sources().first();
     let v = json!({
@@ -87,6 +109,43 @@ fn parameters(scenario: &Scenario, model: &LumpedModel<'_>) -> serde_json::Map<S
         "rock_radius_m": first.map(|s| s.body.radius_m),
         "tree_energy_units": "seed 000 eq. 2 read as joules (DBH in cm)",
     });
+    object(v)
+}
+
+/// Engine parameters of a rigid run recorded in `summary.json`.
+fn rigid_parameters(scenario: &Scenario, model: &RigidModel<'_>) -> serde_json::Map<String, Value> {
+    let b = model.body();
+    let g = &b.geometry;
+    let c = &scenario.contact;
+    let st = model.settings();
+    let law = |p: &rockfall_scenario::ContactParams| json!({"mu": p.mu, "eps_n": p.eps_n, "eps_t": p.eps_t});
+    let v = json!({
+        "rock_shape": scenario.rock.shape.describe(),
+        "rock_vertices": g.vertices_m.len(),
+        "rock_volume_m3": g.volume_m3,
+        "rock_mass_kg": b.mass_kg,
+        "rock_inertia_kgm2": [b.inertia_kgm2.x, b.inertia_kgm2.y, b.inertia_kgm2.z],
+        "rock_lengths_m": g.lengths_m,
+        "rock_aspect_ratio": g.aspect_ratio(),
+        "rock_class": g.class().name(),
+        "contact_ground": law(&c.ground),
+        "contact_tree": law(&c.tree),
+        "slippage": c.slippage.map(|s| json!({"mu_min": s.mu_min, "mu_max": s.mu_max, "beta_per_s": s.beta_per_s, "kappa_per_m": s.kappa_per_m})),
+        "dt_s": scenario.simulation.dt_s,
+        "max_time_s": scenario.simulation.max_time_s,
+        "rocks_per_cell": scenario.simulation.rocks_per_cell,
+        "rocks_per_point": scenario.simulation.rocks_per_point,
+        "source_cells": scenario.release.cells.len(),
+        "release_points": scenario.release.points.len(),
+        "stems": model.stems(),
+        "solver": {"alpha": st.solver.alpha, "tolerance_ms": st.solver.tolerance_ms, "max_iterations": st.solver.max_iterations, "warm_start": st.solver.warm_start},
+        "stop_speed_ms": st.stop.stop_speed_ms,
+        "rest_time_s": st.stop.rest_time_s,
+    });
+    object(v)
+}
+
+fn object(v: Value) -> serde_json::Map<String, Value> {
     match v {
         Value::Object(m) => m,
         _ => serde_json::Map::new(),

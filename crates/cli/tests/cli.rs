@@ -160,13 +160,60 @@ fn site_list_names_the_three_sites() {
 }
 
 #[test]
-fn run_with_the_rigid_engine_is_not_yet_available_but_validates_its_input() {
+fn rigid_engine_runs_forest_slope_40_end_to_end_and_validates_its_input() {
     let (_tmp, dir) = site("forest-slope-40");
     let scenario = dir.join("scenario.toml");
     let out = tempfile::tempdir().unwrap();
-    let run = rockfall(&["run", s(&scenario), "--out", s(out.path())]);
-    assert_eq!(run.code, Some(1), "{run}");
-    assert!(run.stderr.contains("not yet available"), "{run}");
+    let run = ok(rockfall(&[
+        "run",
+        s(&scenario),
+        "--out",
+        s(out.path()),
+        "--rocks-per-point",
+        "2",
+        "--threads",
+        "2",
+    ]));
+    assert!(run.contains("2 rocks"), "{run}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.path().join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(summary["engine"], "rigid");
+    assert_eq!(summary["rocks"], 2);
+    assert_eq!(summary["parameters"]["rock_class"], "cubic");
+    let runout = summary["runout_m"]["max"].as_f64().unwrap();
+    assert!(
+        runout > 5.0,
+        "rocks released on a 40° slope move: {runout} m"
+    );
+    for raster in ["Nr_passages.tif", "E_95.tif", "Nr_tree_impacts.tif"] {
+        assert!(out.path().join(raster).is_file(), "{raster}");
+    }
+    // every time step of the recorded trajectories, 1 ms apart, with rotation
+    let csv = std::fs::read_to_string(out.path().join("trajectories.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .filter(|l| l.starts_with("0,"))
+        .map(|l| l.split(',').take(13).map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() > 1000, "{} rows", rows.len());
+    assert!((rows[2][1] - rows[1][1] - 0.001).abs() < 1e-12);
+    assert!(rows.iter().any(|r| r[12] > 0.0), "the rock rotates");
+    assert!(csv.lines().last().unwrap().ends_with(",stop"));
+
+    let check = ok(rockfall(&["check", s(&scenario)]));
+    assert!(
+        check.contains("convex hull of 100 vertices") && check.contains("(cubic)"),
+        "{check}"
+    );
+    // a rock file whose points are coplanar has no volume: bad input naming the file
+    std::fs::write(dir.join("flat.xyz"), "0 0 0\n1 0 0\n0 1 0\n1 1 0\n").unwrap();
+    let text = std::fs::read_to_string(&scenario).unwrap();
+    let flat = dir.join("flat.toml");
+    std::fs::write(&flat, text.replace("\"cubic1.2\"", "\"flat.xyz\"")).unwrap();
+    bad_input(rockfall(&["check", s(&flat)]), &["flat.xyz", "coplanar"]);
+    bad_input(rockfall(&["run", s(&flat)]), &["flat.xyz", "coplanar"]);
 
     std::fs::remove_file(dir.join("dem.asc")).unwrap();
     bad_input(rockfall(&["run", s(&scenario)]), &["dem.asc"]);
@@ -192,9 +239,16 @@ fn bad_flags_exit_2() {
     bad_input(rockfall(&["check"]), &["INPUT"]);
     bad_input(rockfall(&["site", "vaujany-site1"]), &["--out"]);
     bad_input(rockfall(&["launch"]), &["launch"]);
-    // a valid engine passes the flag check and reaches the input
-    let run = rockfall(&["run", s(&scenario), "--engine", "rigid"]);
-    assert_eq!(run.code, Some(1), "{run}");
+    bad_input(
+        rockfall(&["run", s(&scenario), "--rocks-per-point", "0"]),
+        &["0"],
+    );
+    // a valid engine passes the flag check and reaches the input: the lumped engine has no
+    // use for a named seed 001 shape
+    bad_input(
+        rockfall(&["run", s(&scenario), "--engine", "lumped"]),
+        &["block shape"],
+    );
 }
 
 #[test]

@@ -1,0 +1,317 @@
+//! One Moreau midpoint time step with hard contacts (seed 001 §2; Leine et al. 2014;
+//! model notes, engine 2).
+//!
+//! With q = (r, p) (centre of mass, unit quaternion) and u = (v, Ω) (velocity, body angular
+//! velocity), one step of length Δt from the beginning state B is:
+//!
+//! 1. midpoint positions `r_M = r_B + Δt/2·v_B`, `p_M = p_B ⊗ exp(Δt/2·Ω_B/2)`;
+//! 2. contacts detected at the midpoint: hull vertices and DEM nodes against the ground
+//!    ([`crate::ground`]), the hull against the stems ([`crate::stems`]); a contact is active
+//!    when its gap is ≤ 0;
+//! 3. the free velocity: `v_free = e^{−c_v Δt}·v_B + g Δt` and the torque-free rotation
+//!    `Ω_free` by the energy- and momentum-conserving implicit midpoint rule
+//!    ([`crate::rotation::free_rotation_step`]), times `e^{−c_ω Δt}`;
+//! 4. the impact inclusion `M(u_E − u_free) = Σ W_i P_i` with Signorini–Coulomb and the
+//!    Newton impact law per contact, solved by prox Gauss–Seidel ([`crate::solver`]),
+//!    warm-started with the percussions of the previous step's contacts on the same
+//!    feature;
+//! 5. end positions `r_E = r_M + Δt/2·v_E`, `p_E = p_M ⊗ exp(Δt/2·Ω_E/2)`.
+//!
+//! In free flight this is exact: `r_E = r_B + v_B Δt − g Δt²/2`.
+//!
+//! Ground friction is μ of `[contact.ground]`, or, with slippage (RAMMS; Leine et al. 2014),
+//! `μ(s) = μ_min + (2/π)(μ_max − μ_min)·atan(κ s)` with `ṡ = |v|` while the rock touches the
+//! ground and `ṡ = −β s` in flight.
+
+use crate::ground::{Ground, GroundContact, Under};
+use crate::math::{M3, Quat, V3, finite};
+use crate::rotation::{free_rotation_step, inverse_inertia_world, rotate};
+use crate::shape::RockBody;
+use crate::solver::{Contact, InverseMass, SolverSettings, Velocity, solve};
+use crate::stems::{Stand, StemContact};
+use rockfall_scenario::{ContactParams, Slippage};
+
+/// Key of a stem contact for warm starting (ground keys use the vertex or node number).
+const STEM_KEY: u64 = 1 << 62;
+
+/// The rock's kinematic state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RockState {
+    /// Centre of mass, world frame, m.
+    pub r_m: V3,
+    /// Orientation: rotates body-frame vectors into the world frame.
+    pub q: Quat,
+    /// Velocity of the centre of mass, m/s.
+    pub v_ms: V3,
+    /// Angular velocity in the principal body frame Ω, rad/s.
+    pub w_body_rads: V3,
+}
+
+impl RockState {
+    /// Angular velocity in the world frame ω = R Ω, rad/s.
+    pub fn w_world_rads(&self) -> V3 {
+        self.q * self.w_body_rads
+    }
+
+    /// `true` when every component is finite.
+    pub fn is_finite(&self) -> bool {
+        finite(self.r_m) && finite(self.v_ms) && finite(self.w_body_rads) && self.q.is_finite()
+    }
+}
+
+/// What a step needs that does not change during a run.
+#[derive(Debug, Clone, Copy)]
+pub struct StepParams<'a> {
+    /// The rock.
+    pub body: &'a RockBody,
+    /// Time step Δt, s.
+    pub dt_s: f64,
+    /// Gravity, m/s² (0, 0, −g).
+    pub gravity_ms2: V3,
+    /// Rock–ground contact law.
+    pub ground: ContactParams,
+    /// Rock–stem contact law.
+    pub tree: ContactParams,
+    /// Slippage friction on the ground, replacing `ground.mu`.
+    pub slippage: Option<Slippage>,
+    /// Linear damping rate c_v, 1/s (0: none).
+    pub linear_damping_per_s: f64,
+    /// Angular damping rate c_ω, 1/s (0: none).
+    pub angular_damping_per_s: f64,
+    /// Prox solver parameters.
+    pub solver: SolverSettings,
+}
+
+/// Buffers a worker reuses from step to step (no allocation per step once warm).
+#[derive(Debug, Default, Clone)]
+pub struct StepScratch {
+    ground: Vec<GroundContact>,
+    stems: Vec<StemContact>,
+    contacts: Vec<Contact>,
+    keys: Vec<u64>,
+    previous: Vec<(u64, V3)>,
+    /// Slippage s of the current rock, m.
+    pub slippage_m: f64,
+    /// Counts over every step taken with this scratch.
+    pub stats: StepStats,
+}
+
+/// Counts of what the steps did (for profiling; they do not enter the results).
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+pub struct StepStats {
+    /// Time steps.
+    pub steps: u64,
+    /// Steps with at least one contact.
+    pub steps_in_contact: u64,
+    /// Ground contacts, summed over steps.
+    pub ground_contacts: u64,
+    /// Stem contacts, summed over steps.
+    pub stem_contacts: u64,
+    /// Prox sweeps, summed over steps.
+    pub iterations: u64,
+    /// Steps whose prox iteration stopped at its cap.
+    pub unconverged: u64,
+}
+
+impl StepStats {
+    /// Adds `other`.
+    pub fn add(&mut self, other: &StepStats) {
+        self.steps += other.steps;
+        self.steps_in_contact += other.steps_in_contact;
+        self.ground_contacts += other.ground_contacts;
+        self.stem_contacts += other.stem_contacts;
+        self.iterations += other.iterations;
+        self.unconverged += other.unconverged;
+    }
+}
+
+impl StepScratch {
+    /// Forgets the previous rock.
+    pub fn reset(&mut self) {
+        self.previous.clear();
+        self.slippage_m = 0.0;
+    }
+
+    /// Stems touched in the last step.
+    pub fn stem_contacts(&self) -> &[StemContact] {
+        &self.stems
+    }
+}
+
+/// What happened in one step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepReport {
+    /// Active ground contacts.
+    pub ground_contacts: usize,
+    /// Active stem contacts.
+    pub stem_contacts: usize,
+    /// Prox iterations (0 without contacts).
+    pub iterations: u32,
+    /// Whether the prox iteration met its tolerance.
+    pub converged: bool,
+    /// The ground under the centre of mass at the midpoint.
+    pub under: Under,
+}
+
+/// Advances `state` by one time step.
+pub fn step(
+    state: &mut RockState,
+    p: &StepParams<'_>,
+    ground: &Ground,
+    stand: Option<&Stand<'_>>,
+    scratch: &mut StepScratch,
+) -> StepReport {
+    let half = 0.5 * p.dt_s;
+    let r_m = state.r_m + half * state.v_ms;
+    let q_m = rotate(state.q, state.w_body_rads, half);
+    let rot = M3::from_quat(q_m);
+    let geom = &p.body.geometry;
+    scratch.ground.clear();
+    scratch.stems.clear();
+    let under = ground.under(r_m.x, r_m.y);
+    if let Under::Surface(s) = &under {
+        ground.contacts(geom, r_m, &rot, s, &mut scratch.ground);
+    }
+    if let Some(stand) = stand {
+        stand.contacts(geom, r_m, q_m, &mut scratch.stems);
+    }
+    let mut w_free = free_rotation_step(state.w_body_rads, p.body.inertia_kgm2, p.dt_s);
+    let mut v_free = state.v_ms;
+    if p.linear_damping_per_s > 0.0 {
+        v_free *= (-p.linear_damping_per_s * p.dt_s).exp();
+    }
+    if p.angular_damping_per_s > 0.0 {
+        w_free *= (-p.angular_damping_per_s * p.dt_s).exp();
+    }
+    v_free += p.gravity_ms2 * p.dt_s;
+    let mu_ground = ground_mu(p, scratch.slippage_m);
+    gather(scratch, r_m, mu_ground, p);
+    let (v_e, w_e, iterations, converged) = if scratch.contacts.is_empty() {
+        scratch.previous.clear();
+        (v_free, w_free, 0, true)
+    } else {
+        let minv = InverseMass {
+            inv_mass_per_kg: 1.0 / p.body.mass_kg,
+            inv_inertia_world: inverse_inertia_world(q_m, p.body.inertia_kgm2),
+        };
+        let u_b = Velocity {
+            v_ms: state.v_ms,
+            w_rads: q_m * state.w_body_rads,
+        };
+        let u_free = Velocity {
+            v_ms: v_free,
+            w_rads: q_m * w_free,
+        };
+        let (u_e, report) = solve(&minv, u_b, u_free, &mut scratch.contacts, &p.solver);
+        remember(scratch);
+        (
+            u_e.v_ms,
+            q_m.inverse() * u_e.w_rads,
+            report.iterations,
+            report.converged,
+        )
+    };
+    advance_slippage(p, scratch, v_e);
+    let st = &mut scratch.stats;
+    st.steps += 1;
+    st.steps_in_contact += u64::from(!scratch.contacts.is_empty());
+    st.ground_contacts += scratch.ground.len() as u64;
+    st.stem_contacts += scratch.stems.len() as u64;
+    st.iterations += u64::from(iterations);
+    st.unconverged += u64::from(!converged);
+    state.v_ms = v_e;
+    state.w_body_rads = w_e;
+    state.r_m = r_m + half * v_e;
+    state.q = rotate(q_m, w_e, half).normalize();
+    StepReport {
+        ground_contacts: scratch.ground.len(),
+        stem_contacts: scratch.stems.len(),
+        iterations,
+        converged,
+        under,
+    }
+}
+
+/// Ground friction coefficient at slippage `s_m`.
+fn ground_mu(p: &StepParams<'_>, s_m: f64) -> f64 {
+    match p.slippage {
+        None => p.ground.mu,
+        Some(sl) => {
+            sl.mu_min
+                + std::f64::consts::FRAC_2_PI
+                    * (sl.mu_max - sl.mu_min)
+                    * (sl.kappa_per_m * s_m).atan()
+        }
+    }
+}
+
+/// RAMMS slippage: `ṡ = |v|` in ground contact, `ṡ = −β s` otherwise.
+fn advance_slippage(p: &StepParams<'_>, scratch: &mut StepScratch, v_e: V3) {
+    if let Some(sl) = p.slippage {
+        if scratch.ground.is_empty() {
+            scratch.slippage_m *= (-sl.beta_per_s * p.dt_s).exp();
+        } else {
+            scratch.slippage_m += v_e.length() * p.dt_s;
+        }
+    }
+}
+
+/// Builds the solver's contact list from the detected contacts, warm-started.
+fn gather(scratch: &mut StepScratch, r_m: V3, mu_ground: f64, p: &StepParams<'_>) {
+    scratch.contacts.clear();
+    scratch.keys.clear();
+    let StepScratch {
+        ground,
+        stems,
+        contacts,
+        keys,
+        previous,
+        ..
+    } = scratch;
+    let warm = |key: u64| {
+        previous
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map_or(V3::ZERO, |(_, pc)| *pc)
+    };
+    for g in ground.iter() {
+        keys.push(g.key);
+        contacts.push(contact(
+            g.point_m - r_m,
+            g.normal,
+            &p.ground,
+            mu_ground,
+            warm(g.key),
+        ));
+    }
+    for s in stems.iter() {
+        let key = STEM_KEY | s.stem as u64;
+        keys.push(key);
+        contacts.push(contact(
+            s.point_m - r_m,
+            s.normal,
+            &p.tree,
+            p.tree.mu,
+            warm(key),
+        ));
+    }
+}
+
+fn contact(arm_m: V3, normal: V3, law: &ContactParams, mu: f64, percussion_ns: V3) -> Contact {
+    Contact {
+        arm_m,
+        normal,
+        mu,
+        eps_n: law.eps_n,
+        eps_t: law.eps_t,
+        percussion_ns,
+    }
+}
+
+/// Keeps this step's percussions for the next step's warm start.
+fn remember(scratch: &mut StepScratch) {
+    scratch.previous.clear();
+    for (k, c) in scratch.keys.iter().zip(&scratch.contacts) {
+        scratch.previous.push((*k, c.percussion_ns));
+    }
+}
