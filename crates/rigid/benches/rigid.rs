@@ -13,7 +13,7 @@ use rockfall_rigid::RigidModel;
 use std::hint::black_box;
 use std::sync::Arc;
 
-const ROCKS: u64 = 8;
+const ROCKS: u64 = 16;
 
 fn forest_slope(c: &mut Criterion) {
     let mut scenario = rockfall_sites::build("forest-slope-40").expect("built-in site");
