@@ -32,7 +32,7 @@ use forestry::Trees;
 use ground::Ground;
 use rockfall_forest::Forest;
 pub use rockfall_results::RunOptions;
-use rockfall_results::{Layout, ScreenSet, Tally, run_rocks};
+use rockfall_results::{Layout, RockNumbering, ScreenSet, Tally, run_rocks};
 use rockfall_rng::Purpose;
 use rockfall_scenario::{LumpedSettings, Scenario};
 use std::sync::Arc;
@@ -103,7 +103,7 @@ pub struct LumpedModel<'f> {
     trees: Option<Trees<'f>>,
     screens: ScreenSet,
     sources: Vec<Source>,
-    first_rock: Vec<u64>,
+    numbering: RockNumbering,
     settings: LumpedSettings,
     max_time_s: f64,
     seed: u64,
@@ -118,18 +118,13 @@ impl<'f> LumpedModel<'f> {
             .filter(|f| !f.is_empty())
             .map(|f| Trees::new(f, &ground));
         let sources = sources(scenario, &ground)?;
-        let mut first_rock = Vec::with_capacity(sources.len());
-        let mut total = 0u64;
-        for s in &sources {
-            first_rock.push(total);
-            total += s.rocks;
-        }
+        let numbering = RockNumbering::new(sources.iter().map(|s| s.rocks));
         Ok(LumpedModel {
             ground,
             trees,
             screens: ScreenSet::new(&scenario.screens),
             sources,
-            first_rock,
+            numbering,
             settings: scenario.lumped.clone(),
             max_time_s: scenario.simulation.max_time_s,
             seed: scenario.seed,
@@ -143,7 +138,7 @@ impl<'f> LumpedModel<'f> {
 
     /// Total number of rocks.
     pub fn rocks(&self) -> u64 {
-        self.sources.iter().map(|s| s.rocks).sum()
+        self.numbering.total()
     }
 
     /// The engine's terrain.
@@ -158,9 +153,8 @@ impl<'f> LumpedModel<'f> {
 
     /// The launch of rock `id` (global number).
     fn launch(&self, id: u64) -> (Launch, [u64; 3]) {
-        let s = self.first_rock.partition_point(|&f| f <= id) - 1;
+        let (s, k) = self.numbering.locate(id);
         let src = &self.sources[s];
-        let k = id - self.first_rock[s];
         let launch = Launch {
             rock_id: id,
             source_cell: src.cell,

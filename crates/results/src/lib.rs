@@ -48,7 +48,7 @@ mod write;
 
 pub use forest_effect::ForestEffect;
 pub use hist::PERCENTILE_RELATIVE_ERROR;
-pub use parallel::{PoolError, RunOptions, run_rocks};
+pub use parallel::{PoolError, RockNumbering, RunOptions, run_rocks};
 pub use results::{Results, RunInfo};
 pub use screens::ScreenSet;
 pub use tally::Tally;

@@ -66,3 +66,52 @@ pub fn run_rocks<S>(
     }
     Ok(merged)
 }
+
+/// Global rock numbers over a list of releases: release k owns the consecutive numbers
+/// `first[k] .. first[k] + count[k]`, in release order.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct RockNumbering {
+    first: Vec<u64>,
+    total: u64,
+}
+
+impl RockNumbering {
+    /// Numbers the rocks of releases with `counts` rocks each.
+    pub fn new(counts: impl IntoIterator<Item = u64>) -> RockNumbering {
+        let mut total = 0u64;
+        let first = counts
+            .into_iter()
+            .map(|n| {
+                let f = total;
+                total += n;
+                f
+            })
+            .collect();
+        RockNumbering { first, total }
+    }
+
+    /// Number of rocks over all releases.
+    pub fn total(&self) -> u64 {
+        self.total
+    }
+
+    /// The release of global rock `id` (< [`RockNumbering::total`]) and the rock's index
+    /// within that release.
+    pub fn locate(&self, id: u64) -> (usize, u64) {
+        let k = self.first.partition_point(|&f| f <= id).saturating_sub(1);
+        (k, id - self.first.get(k).copied().unwrap_or(0))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::RockNumbering;
+
+    #[test]
+    fn rocks_are_numbered_release_after_release_skipping_empty_ones() {
+        let n = RockNumbering::new([3, 0, 2]);
+        assert_eq!(n.total(), 5);
+        let located: Vec<_> = (0..5).map(|id| n.locate(id)).collect();
+        assert_eq!(located, [(0, 0), (0, 1), (0, 2), (2, 0), (2, 1)]);
+    }
+}

@@ -22,7 +22,7 @@ pub mod step;
 use ground::{Ground, Under};
 use rock::{Launch, StopRule, World, simulate};
 use rockfall_forest::Forest;
-use rockfall_results::{Layout, RunOptions, ScreenSet, Tally, run_rocks};
+use rockfall_results::{Layout, RockNumbering, RunOptions, ScreenSet, Tally, run_rocks};
 use rockfall_rng::Purpose;
 use rockfall_scenario::{RigidParams, Scenario};
 use rockfall_terrain::Lattice;
@@ -121,7 +121,7 @@ pub struct RigidModel<'f> {
     body: RockBody,
     screens: ScreenSet,
     sources: Vec<Source>,
-    first_rock: Vec<u64>,
+    numbering: RockNumbering,
     scenario_dt_s: f64,
     max_time_s: f64,
     seed: u64,
@@ -135,19 +135,14 @@ impl<'f> RigidModel<'f> {
         let ground = Ground::new(Lattice::new(&scenario.terrain.dem));
         let body = body_from_spec(&scenario.rock)?;
         let sources = sources(scenario, &ground)?;
-        let mut first_rock = Vec::with_capacity(sources.len());
-        let mut total = 0u64;
-        for s in &sources {
-            first_rock.push(total);
-            total += s.rocks;
-        }
+        let numbering = RockNumbering::new(sources.iter().map(|s| s.rocks));
         Ok(RigidModel {
             ground,
             stems: forest.filter(|f| !f.is_empty()),
             body,
             screens: ScreenSet::new(&scenario.screens),
             sources,
-            first_rock,
+            numbering,
             scenario_dt_s: scenario.simulation.dt_s,
             max_time_s: scenario.simulation.max_time_s,
             seed: scenario.seed,
@@ -174,7 +169,7 @@ impl<'f> RigidModel<'f> {
 
     /// Total number of rocks.
     pub fn rocks(&self) -> u64 {
-        self.sources.iter().map(|s| s.rocks).sum()
+        self.numbering.total()
     }
 
     /// Stems in the run.
@@ -204,11 +199,11 @@ impl<'f> RigidModel<'f> {
 
     /// The launch of rock `id` (global number) and its random-stream key.
     fn launch(&self, id: u64) -> (Launch, [u64; 3]) {
-        let s = self.first_rock.partition_point(|&f| f <= id) - 1;
+        let (s, k) = self.numbering.locate(id);
         let src = &self.sources[s];
         let mut launch = src.launch;
         launch.rock_id = id;
-        (launch, [src.key[0], src.key[1], id - self.first_rock[s]])
+        (launch, [src.key[0], src.key[1], k])
     }
 
     /// Simulates the first `rocks` rocks one after another on the calling thread and returns

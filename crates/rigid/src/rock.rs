@@ -230,7 +230,8 @@ fn run(
     let lattice = world.ground.lattice();
     let mut rest_s = 0.0;
     let mut touching: Vec<(usize, f64)> = Vec::new();
-    observe(world, body, state, log, 0.0, Event::Flight);
+    let ground_z = lattice.height_m(state.r_m.x, state.r_m.y);
+    observe(world, body, state, log, 0.0, Event::Flight, ground_z);
     for k in 1..=steps {
         let t = k as f64 * dt;
         let before = state.r_m;
@@ -238,7 +239,7 @@ fn run(
         if !state.is_finite() || state.v_ms.length() > world.stop.max_speed_ms {
             return (Outcome::Failed, t);
         }
-        let Under::Surface(_) = world.ground.under(state.r_m.x, state.r_m.y) else {
+        let Under::Surface(surface) = world.ground.under(state.r_m.x, state.r_m.y) else {
             return (Outcome::LeftDem, t);
         };
         let mut event = if report.ground_contacts > 0 {
@@ -265,7 +266,7 @@ fn run(
         if k == steps {
             break;
         }
-        observe(world, body, state, log, t, event);
+        observe(world, body, state, log, t, event, Some(surface.z_m));
     }
     (Outcome::TimeLimit, steps as f64 * dt)
 }
@@ -357,7 +358,8 @@ fn screens(world: &World<'_>, body: &RockBody, before: V3, state: &RockState, lo
         });
 }
 
-/// Updates the maxima and the cell visit, and records a trajectory row.
+/// Updates the maxima and the cell visit, and records a trajectory row; `ground_z_m` is the
+/// ground height under the centre of mass (`None` off the DEM).
 fn observe(
     world: &World<'_>,
     body: &RockBody,
@@ -365,10 +367,11 @@ fn observe(
     log: &mut Log<'_>,
     t_s: f64,
     event: Event,
+    ground_z_m: Option<f64>,
 ) {
     let lattice = world.ground.lattice();
     let r = state.r_m;
-    let h = lattice.height_m(r.x, r.y).map_or(0.0, |z| r.z - z);
+    let h = ground_z_m.map_or(0.0, |z| r.z - z);
     let (e_t, e_r) = energies_j(body, state);
     let speed = state.v_ms.length();
     log.observe(lattice.cell_index(r.x, r.y), e_t + e_r, speed, h);
@@ -404,7 +407,8 @@ fn finish(
     mut log: Log<'_>,
 ) {
     if outcome != Outcome::Failed && state.is_finite() {
-        observe(world, body, state, &mut log, time_s, Event::Stop);
+        let ground_z = world.ground.lattice().height_m(state.r_m.x, state.r_m.y);
+        observe(world, body, state, &mut log, time_s, Event::Stop, ground_z);
     }
     log.flush();
     let end = if state.is_finite() { state.r_m } else { start };
