@@ -14,6 +14,8 @@
 //! - [`normal`]: accurate standard-normal Φ, tail and quantile, on which the truncated
 //!   normal builds.
 //!
+//! - [`ImpactType`]: the frontal / lateral / scratch classes of an impact's eccentricity.
+//!
 //! Fracture-energy ratios and the impact physics live with the engines, not here.
 //!
 //! ```
@@ -33,6 +35,7 @@
 
 pub mod allometry;
 mod error;
+pub mod impact_type;
 pub mod index;
 pub mod normal;
 mod species;
@@ -42,6 +45,7 @@ pub mod truncated_normal;
 
 pub use allometry::height_from_dbh_m;
 pub use error::ForestError;
+pub use impact_type::ImpactType;
 pub use index::{DEFAULT_BUCKET_SIZE_M, StemHit, StemIndex};
 pub use species::Species;
 pub use stand::{StandCell, StandOptions, expand_stands};

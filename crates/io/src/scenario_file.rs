@@ -409,6 +409,7 @@ fn output(o: Option<schema::OutputSec>) -> OutputSettings {
     let Some(o) = o else { return d };
     OutputSettings {
         trajectories: o.trajectories.unwrap_or(d.trajectories),
+        trajectory_interval_s: o.trajectory_interval_s.unwrap_or(d.trajectory_interval_s),
         ascii_rasters: o.ascii_rasters.unwrap_or(d.ascii_rasters),
         percentiles: o.percentiles.unwrap_or(d.percentiles),
     }

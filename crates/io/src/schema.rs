@@ -174,6 +174,7 @@ pub struct SimulationSec {
 #[serde(deny_unknown_fields)]
 pub struct OutputSec {
     pub trajectories: Option<u64>,
+    pub trajectory_interval_s: Option<f64>,
     pub ascii_rasters: Option<bool>,
     pub percentiles: Option<Vec<f64>>,
 }

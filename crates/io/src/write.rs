@@ -327,8 +327,10 @@ fn settings_toml(s: &Scenario, t: &mut String) {
     let o = &s.output;
     let _ = write!(
         t,
-        "\n[output]\ntrajectories = {}\nascii_rasters = {}\npercentiles = {}\n",
+        "\n[output]\ntrajectories = {}\ntrajectory_interval_s = {}\nascii_rasters = {}\n\
+         percentiles = {}\n",
         o.trajectories,
+        num(o.trajectory_interval_s),
         o.ascii_rasters,
         arr(&o.percentiles)
     );

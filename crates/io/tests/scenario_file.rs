@@ -237,6 +237,36 @@ fn rigid_engine_settings_parse_and_are_checked() {
 }
 
 #[test]
+fn trajectory_interval_parses_round_trips_and_is_checked() {
+    assert_eq!(
+        loads(MINIMAL).output.trajectory_interval_s,
+        0.0,
+        "default: every step"
+    );
+    let text = edit(
+        MINIMAL,
+        "trajectories = 1",
+        "trajectories = 1\ntrajectory_interval_s = 0.05",
+    );
+    let s = loads(&text);
+    assert_eq!(s.output.trajectory_interval_s, 0.05);
+    let dir = tempfile::tempdir().unwrap();
+    let mut site = rockfall_sites::build("forest-slope-40").unwrap();
+    site.output.trajectory_interval_s = 0.25;
+    rockfall_io::write::write_scenario_dir(&site, dir.path()).unwrap();
+    let back = load(&dir.path().join("scenario.toml")).unwrap();
+    assert_eq!(back.output.trajectory_interval_s, 0.25);
+    fails(
+        &edit(
+            &text,
+            "trajectory_interval_s = 0.05",
+            "trajectory_interval_s = -1",
+        ),
+        &["output.trajectory_interval_s", "-1"],
+    );
+}
+
+#[test]
 fn unknown_keys_are_errors_naming_key_and_line() {
     let cases = [
         ("seed = 1", "colour = 1", "colour"),

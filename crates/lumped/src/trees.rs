@@ -2,6 +2,7 @@
 //! (eqs. 1–2) and the lateral deviation of the rock (table 1).
 
 use rand::RngExt;
+pub use rockfall_forest::ImpactType;
 use rockfall_forest::Species;
 use rockfall_rng::Rng;
 
@@ -47,41 +48,6 @@ pub fn max_dissipation_j(fe_ratio: f64, dbh_cm: f64) -> f64 {
 pub fn dissipated_share(x: f64) -> f64 {
     let s = -0.046 + (0.98 + 0.046) / (1.0 + 10f64.powf((0.58 - x) * -8.0));
     s.max(0.0)
-}
-
-/// The impact types of Dorren et al. (2005) used by table 1.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ImpactType {
-    /// The stem is hit by the front of the rock: `x < 1/3`.
-    Frontal,
-    /// `1/3 ≤ x < 2/3`.
-    Lateral,
-    /// The rock grazes the stem: `x ≥ 2/3`.
-    Scratch,
-}
-
-impl ImpactType {
-    /// The type of an impact of relative eccentricity `x = d_CTA / r_stem` in [0, 1]: equal
-    /// thirds of the stem's half-width, our reading of Dorren et al. (2005)'s centre, side and
-    /// edge impacts (the paper gives no thresholds).
-    pub fn of(x: f64) -> ImpactType {
-        if x < 1.0 / 3.0 {
-            ImpactType::Frontal
-        } else if x < 2.0 / 3.0 {
-            ImpactType::Lateral
-        } else {
-            ImpactType::Scratch
-        }
-    }
-
-    /// Probabilities (%) of a deviation of 0–22.5°, 22.5–67.5° and 67.5–76° (seed 000 table 1).
-    pub fn deviation_probabilities(self) -> [f64; 3] {
-        match self {
-            ImpactType::Frontal => [44.0, 50.0, 6.0],
-            ImpactType::Lateral => [11.0, 84.0, 5.0],
-            ImpactType::Scratch => [72.0, 24.0, 4.0],
-        }
-    }
 }
 
 /// Class limits of table 1, degrees.

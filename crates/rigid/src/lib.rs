@@ -124,6 +124,7 @@ pub struct RigidModel<'f> {
     numbering: RockNumbering,
     scenario_dt_s: f64,
     max_time_s: f64,
+    record_interval_s: f64,
     seed: u64,
     contact: rockfall_scenario::ContactSettings,
     settings: RigidSettings,
@@ -145,6 +146,7 @@ impl<'f> RigidModel<'f> {
             numbering,
             scenario_dt_s: scenario.simulation.dt_s,
             max_time_s: scenario.simulation.max_time_s,
+            record_interval_s: scenario.output.trajectory_interval_s,
             seed: scenario.seed,
             contact: scenario.contact.clone(),
             settings: RigidSettings::from_params(&scenario.rigid),
@@ -237,6 +239,7 @@ impl<'f> RigidModel<'f> {
             step: self.step_params(),
             stop: self.settings.stop,
             max_time_s: self.max_time_s,
+            record_interval_s: self.record_interval_s,
         }
     }
 

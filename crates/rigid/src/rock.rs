@@ -65,6 +65,9 @@ pub struct World<'a> {
     pub stop: StopRule,
     /// Longest simulated time, s.
     pub max_time_s: f64,
+    /// Shortest time between two recorded trajectory rows, s (0: every step; the final row
+    /// is always recorded).
+    pub record_interval_s: f64,
 }
 
 /// One rock's start.
@@ -124,6 +127,7 @@ struct Log<'t> {
     tally: &'t mut Tally,
     rock_id: u64,
     recording: bool,
+    next_record_s: f64,
     visit: Option<(usize, CellVisit)>,
     max_v: f64,
     max_h: f64,
@@ -202,6 +206,7 @@ pub fn simulate(
         tally,
         rock_id: launch.rock_id,
         recording,
+        next_record_s: 0.0,
         visit: None,
         max_v: 0.0,
         max_h: 0.0,
@@ -375,7 +380,10 @@ fn observe(
     let (e_t, e_r) = energies_j(body, state);
     let speed = state.v_ms.length();
     log.observe(lattice.cell_index(r.x, r.y), e_t + e_r, speed, h);
-    if log.recording {
+    // rows fall due every `record_interval_s`, to within half a step
+    let due = t_s + 0.5 * world.step.dt_s >= log.next_record_s;
+    if log.recording && (due || event == Event::Stop) {
+        log.next_record_s = t_s + world.record_interval_s;
         let w = state.w_world_rads();
         log.tally.record(TrajectoryRow {
             rock_id: log.rock_id,

@@ -153,6 +153,13 @@ impl Contact {
             percussion_ns: V3::ZERO,
         }
     }
+
+    /// The percussion in the world frame, N s.
+    pub fn percussion_world_ns(&self) -> V3 {
+        let (t1, t2) = tangent_basis(self.normal);
+        let p = self.percussion_ns;
+        self.normal * p.x + t1 * p.y + t2 * p.z
+    }
 }
 
 /// The rock's inverse mass matrix `M⁻¹ = diag(1/m, I_w⁻¹)` in the world frame.

@@ -140,6 +140,13 @@ impl<'f> Stand<'f> {
         Stand { index, cones }
     }
 
+    /// Stems given as cones, one per stem of `index` (same order), for stems whose shape is
+    /// known directly (the impact laboratory's stem of seed 001 §2).
+    pub fn from_cones(cones: Vec<Cone>, index: &'f StemIndex) -> Self {
+        debug_assert_eq!(cones.len(), index.len(), "one cone per indexed stem");
+        Stand { index, cones }
+    }
+
     /// Number of stems.
     pub fn len(&self) -> usize {
         self.cones.len()

@@ -136,6 +136,16 @@ impl StepScratch {
     pub fn stem_contacts(&self) -> &[StemContact] {
         &self.stems
     }
+
+    /// Total percussion the stems exerted on the rock in the last step (world frame, N s;
+    /// zero without stem contacts, and when every stem contact separated without force).
+    pub fn stem_percussion_ns(&self) -> V3 {
+        // `gather` puts the ground contacts first, then the stems
+        let first = self.contacts.len() - self.stems.len().min(self.contacts.len());
+        (self.contacts[first..].iter())
+            .map(Contact::percussion_world_ns)
+            .sum()
+    }
 }
 
 /// What happened in one step.

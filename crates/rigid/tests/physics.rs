@@ -12,7 +12,7 @@ mod common;
 use common::*;
 use proptest::prelude::*;
 use rockfall_rigid::rotation::free_rotation_step;
-use rockfall_rigid::shape::{RockBody, sphere_points};
+use rockfall_rigid::shape::{RockBody, fibonacci_sphere_points, sphere_points};
 use rockfall_rigid::step::{RockState, StepScratch, step};
 use rockfall_rigid::{G_MS2, Quat, V3};
 
@@ -463,20 +463,6 @@ fn face_down(body: &RockBody, down: V3) -> Quat {
     Quat::from_rotation_arc(n, down)
 }
 
-/// A fine polyhedral unit sphere: the hull of `n` points of the golden-spiral (Fibonacci)
-/// lattice; with n = 3000 neighbouring vertices are ≈ 0.065 rad apart.
-fn fibonacci_sphere(n: usize) -> Vec<V3> {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|i| {
-            let z = 1.0 - (2 * i + 1) as f64 / n as f64;
-            let r = (1.0 - z * z).sqrt();
-            let (sin, cos) = (i as f64 * golden).sin_cos();
-            V3::new(r * cos, r * sin, z)
-        })
-        .collect()
-}
-
 /// Fitted acceleration down a plane of `theta_deg` (μ = 1, ε = 0) of `body` released at rest
 /// on a face, over `steps`.
 fn rolling_acceleration(body: &RockBody, theta_deg: f64, steps: usize) -> f64 {
@@ -519,7 +505,7 @@ fn icosphere_rolls_at_about_five_sevenths_g_sin_theta() {
 /// −0.8 %: the facets, 0.065 rad apart, still cost a little at each change).
 #[test]
 fn fine_sphere_rolls_at_five_sevenths_g_sin_theta() {
-    let body = body_of(&fibonacci_sphere(3000));
+    let body = body_of(&fibonacci_sphere_points(3000));
     let exact_ratio = 1.0 / (1.0 + body.inertia_kgm2.x / (body.mass_kg * 1.0));
     assert!((exact_ratio - 5.0 / 7.0).abs() < 0.002, "{exact_ratio}");
     for theta in [20.0f64, 30.0] {
@@ -539,7 +525,7 @@ fn fine_sphere_rolls_at_five_sevenths_g_sin_theta() {
 /// at 5/7 v0 within 2 % (the faceted hull rocks its centre by < 1 mm).
 #[test]
 fn sliding_sphere_starts_to_roll() {
-    let body = body_of(&fibonacci_sphere(3000));
+    let body = body_of(&fibonacci_sphere_points(3000));
     let ground = flat(6.0);
     let (v0, mu) = (2.0, 0.2);
     let p = params(&body, law(mu, 0.0, 0.0));

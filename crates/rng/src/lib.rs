@@ -38,6 +38,9 @@ pub enum Purpose {
     Rock,
     /// Choosing which trajectories to record in full.
     Sampling,
+    /// The impact laboratory's candidate rocks (release, orientation, velocities) and their
+    /// order, keyed by candidate number.
+    Laboratory,
 }
 
 impl Purpose {
@@ -47,6 +50,7 @@ impl Purpose {
             Purpose::SiteBuild => 0x5349_5445_0000_0002,
             Purpose::Rock => 0x524f_434b_0000_0003,
             Purpose::Sampling => 0x5341_4d50_4c45_0004,
+            Purpose::Laboratory => 0x4c41_424f_5241_0005,
         }
     }
 }

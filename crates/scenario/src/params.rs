@@ -212,6 +212,9 @@ impl Default for SimulationSettings {
 pub struct OutputSettings {
     /// Number of trajectories written in full to `trajectories.csv` (default 10).
     pub trajectories: u64,
+    /// Rigid engine: shortest time between two recorded rows of a trajectory, s (default 0:
+    /// every time step); the final row is always written. The lumped engine records events.
+    pub trajectory_interval_s: f64,
     /// Also write every raster as ESRI ASCII grid (default false: GeoTIFF only).
     pub ascii_rasters: bool,
     /// Percentiles of energy and passing height written as rasters, % (default 50, 90, 95,
@@ -223,6 +226,7 @@ impl Default for OutputSettings {
     fn default() -> Self {
         OutputSettings {
             trajectories: 10,
+            trajectory_interval_s: 0.0,
             ascii_rasters: false,
             percentiles: vec![50.0, 90.0, 95.0, 98.0, 99.0],
         }

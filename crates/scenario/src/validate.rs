@@ -368,6 +368,15 @@ impl Scenario {
                 ));
             }
         }
+        let interval = self.output.trajectory_interval_s;
+        if !(interval.is_finite() && interval >= 0.0) {
+            return Err(out_of_range(
+                "output.trajectory_interval_s",
+                None,
+                interval,
+                "finite and ≥ 0",
+            ));
+        }
         if let Some(&p) = self
             .output
             .percentiles

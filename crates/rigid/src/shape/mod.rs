@@ -31,7 +31,8 @@ pub use files::load_points;
 pub use geometry::RockGeometry;
 pub use mass::{MassProperties, mass_properties, principal_axes};
 pub use named::{
-    box_points, disc_points, ellipsoid_points, icosphere_unit_points, natural_points, sphere_points,
+    box_points, disc_points, ellipsoid_points, fibonacci_sphere_points, icosphere_unit_points,
+    natural_points, sphere_points,
 };
 
 use std::path::PathBuf;

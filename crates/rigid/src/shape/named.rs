@@ -107,6 +107,22 @@ pub fn sphere_points(diameter_m: f64) -> Vec<V3> {
     ellipsoid_points([diameter_m; 3])
 }
 
+/// A finer polyhedral unit sphere for studies that need one: the hull of `n` points of the
+/// golden-spiral (Fibonacci) lattice (González 2010, "Measurement of areas on a sphere using
+/// Fibonacci and latitude–longitude lattices"); with n = 3000 neighbouring vertices are
+/// ≈ 0.065 rad apart.
+pub fn fibonacci_sphere_points(n: usize) -> Vec<V3> {
+    let golden = PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|i| {
+            let z = 1.0 - (2 * i + 1) as f64 / n as f64;
+            let r = (1.0 - z * z).sqrt();
+            let (sin, cos) = (i as f64 * golden).sin_cos();
+            V3::new(r * cos, r * sin, z)
+        })
+        .collect()
+}
+
 /// A polyhedral ellipsoid with full axes `dims_m` along x, y, z: the icosphere scaled by d/2 per
 /// axis (162 vertices).
 pub fn ellipsoid_points(dims_m: [f64; 3]) -> Vec<V3> {
