@@ -81,19 +81,81 @@ pub enum Command {
         #[arg(long)]
         list: bool,
     },
-    /// The single-tree virtual impact experiment of seed 001 (rigid engine).
+    /// The single-tree virtual impact experiment of seed 001 §2 (rigid engine): rocks of one
+    /// shape (0.02 m³, 2700 kg/m³) released 5 m high from a 1 m² lattice in front of one rigid
+    /// stem, random speed 5–40 m/s, spin 0–60 rad/s, direction θ 0–180°, χ −40–40°; the first
+    /// impact of N rocks that hit it, as frontal, lateral or scratch by the eccentricity ζ_CT.
+    /// Writes impacts.csv, summary.json (per-regime energy loss and spin change) and the
+    /// figures (PDFs of ΔE_total, ΔE_trans, Δω; δE_rot vs δE_trans). With --compare, draws
+    /// earlier runs side by side instead of simulating.
     ImpactLab {
-        /// Rock shape: sphere, cubic1.2, flat2.2, long2.2, or a point cloud / mesh file.
+        /// Rock shape: sphere, cubic1.2, flat2.2, long2.2, box, ellipsoid, disc, or a point
+        /// cloud / mesh file (.xyz .csv .txt .obj .ply .stl); rescaled to 0.02 m³.
         #[arg(long, default_value = "sphere")]
         shape: String,
-        /// Number of impacts sampled.
-        #[arg(long, default_value_t = 5000)]
+        /// Impacts sampled (≥ 1).
+        #[arg(long, default_value_t = 5000, value_parser = clap::value_parser!(u64).range(1..))]
         samples: u64,
-        /// Master seed.
+        /// Master seed fixing every random draw.
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// Output folder.
+        /// Output folder (created if needed).
         #[arg(long, default_value = "rockfall-impact-lab")]
+        out: PathBuf,
+        /// Stem diameter at the ground d0, m; the stem tapers by 0.01 m per m over its 10 m
+        /// (seed 001: d0 0.55 m, d1 0.45 m).
+        #[arg(long, default_value_t = 0.55)]
+        dbh_m: f64,
+        /// Friction coefficient of the stem surface.
+        #[arg(long, default_value_t = 0.6)]
+        mu: f64,
+        /// Normal restitution of rock–stem contacts.
+        #[arg(long, default_value_t = 0.0)]
+        eps_n: f64,
+        /// Tangential restitution of rock–stem contacts.
+        #[arg(long, default_value_t = 0.0)]
+        eps_t: f64,
+        /// Time step, s.
+        #[arg(long, default_value_t = 1e-4)]
+        dt_s: f64,
+        /// Worker threads (≥ 1); default: all cores. Results do not depend on it.
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        threads: Option<u64>,
+        /// Compare earlier runs (their output folders) instead of simulating: figures with one
+        /// curve per run, comparison.json and comparison.md, written to --out.
+        #[arg(long, num_args = 1.., value_name = "DIR")]
+        compare: Vec<PathBuf>,
+    },
+    /// The forest-slope rock-shape study of seed 001 §3.4: the same slope run once per rock
+    /// shape. Writes each shape's full run (rasters, summary.json, trajectories.csv every
+    /// --interval-s) in OUT/<shape>, the plan view of all trajectories coloured by total
+    /// energy (trajectories_plan.png), and run-out and lateral spread per shape (study.json,
+    /// study.md).
+    ShapeStudy {
+        /// Scenario file or Rockyfor3D input folder; default: the built-in forest-slope-40.
+        input: Option<PathBuf>,
+        /// Rock shapes, comma-separated (as for impact-lab --shape); each keeps the
+        /// scenario's rock volume and density.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "cubic1.2,flat2.2,long2.2"
+        )]
+        shapes: Vec<String>,
+        /// Rocks per release point (≥ 1).
+        #[arg(long, default_value_t = 500, value_parser = clap::value_parser!(u64).range(1..))]
+        rocks: u64,
+        /// Master seed; default: the scenario's.
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Time between recorded trajectory rows, s (> 0).
+        #[arg(long, default_value_t = 0.05)]
+        interval_s: f64,
+        /// Worker threads (≥ 1); default: all cores. Results do not depend on it.
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        threads: Option<u64>,
+        /// Output folder (created if needed).
+        #[arg(long, default_value = "rockfall-shape-study")]
         out: PathBuf,
     },
     /// Run the published-experiment cases (seed 000 tables 2 and 3) and print observed vs

@@ -2,6 +2,7 @@
 
 use crate::Failure;
 use crate::args::Command;
+use crate::lab;
 use crate::simulate;
 use anyhow::anyhow;
 use rockfall_scenario::{Engine, Summary};
@@ -52,7 +53,55 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             Ok(())
         }
         Command::Demo { out } => simulate::demo(&out),
-        Command::ImpactLab { .. } => Err(not_yet("impact-lab", "the rigid engine")),
+        Command::ImpactLab {
+            shape,
+            samples,
+            seed,
+            out,
+            dbh_m,
+            mu,
+            eps_n,
+            eps_t,
+            dt_s,
+            threads,
+            compare,
+        } => {
+            if compare.is_empty() {
+                let flags = lab::LabFlags {
+                    shape,
+                    samples,
+                    seed,
+                    d0_m: dbh_m,
+                    mu,
+                    eps_n,
+                    eps_t,
+                    dt_s,
+                    threads,
+                };
+                lab::impact_lab(&flags, &out)
+            } else {
+                lab::compare(&compare, &out)
+            }
+        }
+        Command::ShapeStudy {
+            input,
+            shapes,
+            rocks,
+            seed,
+            interval_s,
+            threads,
+            out,
+        } => {
+            let flags = lab::StudyFlags {
+                input,
+                shapes,
+                rocks,
+                seed,
+                interval_s,
+                threads,
+            };
+            lab::shape_study(&flags, &out)
+        }
         Command::Validate { .. } => Err(not_yet("validate", "the validation cases")),
     }
 }
@@ -65,7 +114,7 @@ fn not_yet(command: &str, what: &str) -> Failure {
 }
 
 /// Loads an input and builds its forest; every problem is bad input.
-fn load_checked(
+pub fn load_checked(
     input: &Path,
 ) -> Result<(rockfall_scenario::Scenario, rockfall_forest::Forest), Failure> {
     let scenario = rockfall_io::load(input)?;

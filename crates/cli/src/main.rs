@@ -3,6 +3,7 @@
 
 mod args;
 mod commands;
+mod lab;
 mod simulate;
 
 use clap::Parser;

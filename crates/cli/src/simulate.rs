@@ -75,7 +75,7 @@ fn with_progress<T>(
     label: &str,
     run: impl FnOnce(&RunOptions<'_>) -> T,
 ) -> T {
-    let bar = progress_bar(rocks, label);
+    let bar = progress_bar(rocks, label, "rocks");
     let tick = |n: u64| bar.inc(n);
     let opts = RunOptions {
         threads,
@@ -152,14 +152,15 @@ fn object(v: Value) -> serde_json::Map<String, Value> {
     }
 }
 
-fn progress_bar(total: u64, label: &str) -> ProgressBar {
+/// A progress bar over `total` `unit` (on a terminal only), prefixed with `label`.
+pub fn progress_bar(total: u64, label: &str, unit: &str) -> ProgressBar {
     if !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
     }
     let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
-    let style = ProgressStyle::with_template(
-        "{prefix} [{bar:30}] {human_pos}/{human_len} rocks, {per_sec}, {eta} left",
-    )
+    let style = ProgressStyle::with_template(&format!(
+        "{{prefix}} [{{bar:30}}] {{human_pos}}/{{human_len}} {unit}, {{per_sec}}, {{eta}} left"
+    ))
     .map(|s| s.progress_chars("=> "))
     .unwrap_or_else(|_| ProgressStyle::default_bar());
     bar.set_style(style);

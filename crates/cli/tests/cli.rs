@@ -254,7 +254,15 @@ fn bad_flags_exit_2() {
 #[test]
 fn every_command_has_help() {
     let top = ok(rockfall(&["--help"]));
-    let commands = ["demo", "run", "check", "site", "impact-lab", "validate"];
+    let commands = [
+        "demo",
+        "run",
+        "check",
+        "site",
+        "impact-lab",
+        "shape-study",
+        "validate",
+    ];
     for c in commands {
         assert!(top.contains(c), "{c} missing from\n{top}");
         let help = ok(rockfall(&[c, "--help"]));

@@ -11,8 +11,9 @@
 //! Chosen here (not in the paper): the density is taken per hectare of *inclined* surface
 //! ("randomly distributed on the inclined terrain surface"), i.e. 500/cos 40° ≈ 653 stems per
 //! hectare of map; the slope extends 10 m (horizontal) above the release so the release point
-//! lies inside the DEM; the plane below is 80 m long; the site is 120 m wide on a 2 m grid in
-//! local coordinates (no CRS); the ground contact is the rock–terrain law of Leine et al.
+//! lies inside the DEM; the plane below is 160 m long and the site 300 m wide, so that the
+//! rocks' run-out and lateral spread (the shape study's measures) are not cut off by the edges;
+//! a 2 m grid in local coordinates (no CRS); the ground contact is the rock–terrain law of Leine et al.
 //! (2014), reference [12] of seed 001: ε_N = ε_T = 0 with their slippage friction
 //! (μ_min 0.2, μ_max 1.3, β 20 s⁻¹, κ 0.7 m⁻¹); rocks start 0.1 m above the ground at rest,
 //! with a random orientation each.
@@ -37,8 +38,8 @@ pub const STEMS_PER_HA_SURFACE: f64 = 500.0;
 
 const CELL_M: f64 = 2.0;
 const ABOVE_M: f64 = 10.0;
-const PLANE_M: f64 = 80.0;
-const WIDTH_M: f64 = 120.0;
+const PLANE_M: f64 = 160.0;
+const WIDTH_M: f64 = 300.0;
 
 /// Horizontal length of the slope below the release, m.
 pub fn slope_length_m() -> f64 {
@@ -151,7 +152,7 @@ mod tests {
         let s = build().unwrap();
         let dem = &s.terrain.dem;
         let g = dem.geometry();
-        let (x, y) = (60.0, g.y_max_m() - ABOVE_M);
+        let (x, y) = (WIDTH_M / 2.0, g.y_max_m() - ABOVE_M);
         assert!(
             (dem.height_m(x, y).unwrap() - 200.0).abs() < 1e-6,
             "release at 200 m"

@@ -1,0 +1,162 @@
+//! Per-regime summaries of impact metrics (`summary.json` key `regimes`, the comparison table).
+
+use crate::Regime;
+use crate::impact::Impact;
+use crate::stats::{Described, describe};
+use serde_json::{Map, Value, json};
+
+/// What the summaries and figures need of one impact (read back from `impacts.csv` when runs
+/// are compared).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Metrics {
+    /// Regime of the impact.
+    pub regime: Regime,
+    /// ΔE_total, fraction.
+    pub total_energy_loss: f64,
+    /// ΔE_trans, fraction.
+    pub trans_energy_loss: f64,
+    /// Δω, fraction.
+    pub rotation_change: f64,
+    /// δE_rot, J.
+    pub d_e_rot_j: f64,
+    /// δE_trans, J.
+    pub d_e_trans_j: f64,
+}
+
+impl From<&Impact> for Metrics {
+    fn from(i: &Impact) -> Self {
+        Metrics {
+            regime: i.regime,
+            total_energy_loss: i.total_energy_loss(),
+            trans_energy_loss: i.trans_energy_loss(),
+            rotation_change: i.rotation_change(),
+            d_e_rot_j: i.d_e_rot_j(),
+            d_e_trans_j: i.d_e_trans_j(),
+        }
+    }
+}
+
+/// A metric of an impact.
+pub type Metric = fn(&Metrics) -> f64;
+
+/// The three summarised quantities, with their `summary.json` keys.
+pub const QUANTITIES: [(&str, Metric); 3] = [
+    ("total_energy_loss", |m| m.total_energy_loss),
+    ("trans_energy_loss", |m| m.trans_energy_loss),
+    ("rotation_change", |m| m.rotation_change),
+];
+
+/// Summary of one regime (or of all impacts).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegimeSummary {
+    /// Impacts.
+    pub n: usize,
+    /// Per quantity of [`QUANTITIES`], in order; `None` without impacts.
+    pub stats: [Option<Described>; 3],
+}
+
+impl RegimeSummary {
+    /// Summarises the impacts of `metrics` that `keep` selects.
+    pub fn of(metrics: &[Metrics], keep: impl Fn(&Metrics) -> bool) -> RegimeSummary {
+        let chosen: Vec<&Metrics> = metrics.iter().filter(|m| keep(m)).collect();
+        RegimeSummary {
+            n: chosen.len(),
+            stats: QUANTITIES.map(|(_, f)| describe(chosen.iter().map(|m| f(m)))),
+        }
+    }
+
+    /// `{"n", "share", "total_energy_loss": {"mean","p50","mode"}, "trans_energy_loss": …,
+    /// "rotation_change": …}`, `share` being `n / of`.
+    pub fn json(&self, of: usize) -> Value {
+        let mut m = Map::new();
+        m.insert("n".into(), json!(self.n));
+        m.insert("share".into(), json!(self.n as f64 / of.max(1) as f64));
+        for ((key, _), s) in QUANTITIES.iter().zip(&self.stats) {
+            m.insert((*key).into(), s.map_or(Value::Null, |d| d.json()));
+        }
+        Value::Object(m)
+    }
+}
+
+/// The summaries of the three regimes, in the order of [`Regime::ALL`].
+pub fn by_regime(metrics: &[Metrics]) -> [RegimeSummary; 3] {
+    Regime::ALL.map(|r| RegimeSummary::of(metrics, |m| m.regime == r))
+}
+
+/// `{"frontal": …, "lateral": …, "scratch": …}` (see [`RegimeSummary::json`]).
+pub fn regimes_json(metrics: &[Metrics]) -> Value {
+    let mut m = Map::new();
+    for (r, s) in Regime::ALL.iter().zip(by_regime(metrics)) {
+        m.insert(r.name().into(), s.json(metrics.len()));
+    }
+    Value::Object(m)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    fn m(regime: Regime, loss: f64) -> Metrics {
+        Metrics {
+            regime,
+            total_energy_loss: loss,
+            trans_energy_loss: loss,
+            rotation_change: 0.5,
+            d_e_rot_j: 1.0,
+            d_e_trans_j: 2.0,
+        }
+    }
+
+    #[test]
+    fn regimes_are_summarised_apart() {
+        let v = vec![
+            m(Regime::Frontal, 0.8),
+            m(Regime::Frontal, 0.9),
+            m(Regime::Scratch, 0.4),
+        ];
+        let j = regimes_json(&v);
+        assert_eq!(j["frontal"]["n"], 2);
+        assert!((j["frontal"]["total_energy_loss"]["mean"].as_f64().unwrap() - 0.85).abs() < 1e-12);
+        assert_eq!(j["scratch"]["trans_energy_loss"]["p50"], 0.4);
+        assert_eq!(j["lateral"]["n"], 0);
+        assert!(j["lateral"]["rotation_change"].is_null());
+        assert!((j["scratch"]["share"].as_f64().unwrap() - 1.0 / 3.0).abs() < 1e-12);
+    }
+}
+
+/// One labelled set of impacts (a shape's run).
+#[derive(Debug, Clone)]
+pub struct Labelled {
+    /// Label (the rock shape).
+    pub label: String,
+    /// Its impacts.
+    pub metrics: Vec<Metrics>,
+}
+
+/// A Markdown table of the regimes of `runs`: per regime and run, n and the mode, mean and
+/// median of ΔE_total, ΔE_trans and Δω, in %.
+pub fn regime_table(runs: &[Labelled]) -> String {
+    let mut t = String::from(
+        "| regime | shape | n | ΔE_total mode | mean | p50 | ΔE_trans mode | mean | p50 \
+         | Δω mode | mean | p50 |\n|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n",
+    );
+    for (r, regime) in Regime::ALL.iter().enumerate() {
+        for run in runs {
+            let s = &by_regime(&run.metrics)[r];
+            t += &format!("| {} | {} | {} |", regime.name(), run.label, s.n);
+            for d in &s.stats {
+                t += &match d {
+                    Some(d) => format!(" {} | {} | {} |", pct(d.mode), pct(d.mean), pct(d.p50)),
+                    None => " – | – | – |".into(),
+                };
+            }
+            t.push('\n');
+        }
+    }
+    t
+}
+
+fn pct(x: f64) -> String {
+    format!("{:.0} %", 100.0 * x)
+}
