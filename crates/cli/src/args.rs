@@ -123,7 +123,12 @@ pub enum Command {
         threads: Option<u64>,
         /// Compare earlier runs (their output folders) instead of simulating: figures with one
         /// curve per run, comparison.json and comparison.md, written to --out.
-        #[arg(long, num_args = 1.., value_name = "DIR")]
+        #[arg(
+            long,
+            num_args = 1..,
+            value_name = "DIR",
+            conflicts_with_all = ["shape", "samples", "seed", "dbh_m", "mu", "eps_n", "eps_t", "dt_s", "threads"]
+        )]
         compare: Vec<PathBuf>,
     },
     /// The forest-slope rock-shape study of seed 001 §3.4: the same slope run once per rock

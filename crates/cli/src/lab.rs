@@ -38,7 +38,13 @@ fn failure(e: LabError) -> Failure {
         LabError::Setup(_) | LabError::Shape(_) | LabError::Read { .. } => {
             Failure::BadInput(e.into())
         }
-        LabError::Io { ref source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
+        // a missing input folder or an output folder we may not write to
+        LabError::Io { ref source, .. }
+            if matches!(
+                source.kind(),
+                std::io::ErrorKind::NotFound | std::io::ErrorKind::PermissionDenied
+            ) =>
+        {
             Failure::BadInput(e.into())
         }
         other => Failure::Internal(other.into()),
@@ -151,11 +157,6 @@ pub fn shape_study(flags: &StudyFlags, out: &Path) -> Result<(), Failure> {
             "--interval-s must be finite and > 0"
         )));
     }
-    if flags.shapes.is_empty() {
-        return Err(Failure::BadInput(anyhow!(
-            "--shapes: give at least one shape"
-        )));
-    }
     let (mut base, forest) = match &flags.input {
         Some(input) => crate::commands::load_checked(input)?,
         None => {
@@ -172,26 +173,7 @@ pub fn shape_study(flags: &StudyFlags, out: &Path) -> Result<(), Failure> {
     base.output.trajectory_interval_s = flags.interval_s;
     base.output.trajectories = u64::MAX; // every rock's path
     let line = fall_line(&base)?;
-    let volume_m3 = match base.rock.volume_m3 {
-        Some(v) => v,
-        None => {
-            body_from_spec(&base.rock)
-                .map_err(|e| Failure::BadInput(anyhow!("rock: {e}")))?
-                .geometry
-                .volume_m3
-        }
-    };
-    // every shape is checked before the first runs
-    let mut scenarios = Vec::new();
-    for shape in &flags.shapes {
-        let mut sc = base.clone();
-        sc.rock.shape =
-            RockShape::parse(shape).map_err(|e| Failure::BadInput(anyhow!("--shapes: {e}")))?;
-        sc.rock.volume_m3 = Some(volume_m3);
-        body_from_spec(&sc.rock)
-            .map_err(|e| Failure::BadInput(anyhow!("--shapes {shape}: {e}")))?;
-        scenarios.push((shape_label(shape), sc));
-    }
+    let scenarios = shape_scenarios(&base, &flags.shapes)?;
     let threads = simulate::threads(flags.threads);
     let forest = (!forest.is_empty()).then_some(&forest);
     let mut runs = Vec::new();
@@ -201,11 +183,46 @@ pub fn shape_study(flags: &StudyFlags, out: &Path) -> Result<(), Failure> {
         simulate::write(&results, &out.join(label), false)?;
         runs.push(SlopeRun::new(label, &results));
     }
-    let (_, files) = write_study(out, &runs, &line).map_err(failure)?;
-    let md = std::fs::read_to_string(out.join("study.md")).unwrap_or_default();
-    print!("{md}");
-    print_files(out, &files);
+    let study = write_study(out, &runs, &line).map_err(failure)?;
+    print!("{}", study.markdown);
+    print_files(out, &study.files);
     Ok(())
+}
+
+/// `base` once per shape of `shapes` (at `base`'s rock volume), labelled; every shape is
+/// checked, and labels must differ (each names its output folder), before anything runs.
+fn shape_scenarios(base: &Scenario, shapes: &[String]) -> Result<Vec<(String, Scenario)>, Failure> {
+    if shapes.is_empty() {
+        return Err(Failure::BadInput(anyhow!(
+            "--shapes: give at least one shape"
+        )));
+    }
+    let volume_m3 = match base.rock.volume_m3 {
+        Some(v) => v,
+        None => {
+            body_from_spec(&base.rock)
+                .map_err(|e| Failure::BadInput(anyhow!("rock: {e}")))?
+                .geometry
+                .volume_m3
+        }
+    };
+    let mut out: Vec<(String, Scenario)> = Vec::new();
+    for shape in shapes {
+        let label = shape_label(shape);
+        if out.iter().any(|(l, _)| *l == label) {
+            return Err(Failure::BadInput(anyhow!(
+                "--shapes: `{label}` twice (each shape's run goes to a folder of its name)"
+            )));
+        }
+        let mut sc = base.clone();
+        sc.rock.shape =
+            RockShape::parse(shape).map_err(|e| Failure::BadInput(anyhow!("--shapes: {e}")))?;
+        sc.rock.volume_m3 = Some(volume_m3);
+        body_from_spec(&sc.rock)
+            .map_err(|e| Failure::BadInput(anyhow!("--shapes {shape}: {e}")))?;
+        out.push((label, sc));
+    }
+    Ok(out)
 }
 
 /// The fall line at the first release of `s`.

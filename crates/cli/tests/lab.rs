@@ -169,23 +169,26 @@ fn bad_lab_input_is_named() {
     };
     bad_input(run(&["--eps-n", "1.5"]), &["restitution"]);
     bad_input(run(&["--dbh-m", "0.05"]), &["stem diameter"]);
+    bad_input(run(&["--dt-s", "1e-9"]), &["time step"]);
     bad_input(run(&["--shape", "banana"]), &["--shape", "banana"]);
     let missing = tmp.path().join("nowhere.xyz");
     bad_input(run(&["--shape", s(&missing)]), &["nowhere.xyz"]);
     let not_a_run = tmp.path().join("empty");
     std::fs::create_dir(&not_a_run).unwrap();
-    bad_input(run(&["--compare", s(&not_a_run)]), &["impacts.csv"]);
+    let compare = |dir: &Path| rockfall(&["impact-lab", "--out", s(&out), "--compare", s(dir)]);
+    bad_input(compare(&not_a_run), &["impacts.csv"]);
     std::fs::write(not_a_run.join("impacts.csv"), "sample,regime\n0,frontal\n").unwrap();
-    bad_input(
-        run(&["--compare", s(&not_a_run)]),
-        &["impacts.csv", "total_energy_loss"],
-    );
+    bad_input(compare(&not_a_run), &["impacts.csv", "total_energy_loss"]);
     assert!(
         !out.join("impacts.csv").exists(),
         "nothing written on bad input"
     );
     let usage = rockfall(&["impact-lab", "--samples", "0"]);
     assert_eq!(usage.code, Some(2), "{usage}");
+    // --compare draws earlier runs: the flags of a new run make no sense with it
+    let usage = rockfall(&["impact-lab", "--compare", s(&not_a_run), "--mu", "0.3"]);
+    assert_eq!(usage.code, Some(2), "{usage}");
+    assert!(usage.stderr.contains("cannot be used with"), "{usage}");
 }
 
 #[test]
@@ -257,6 +260,18 @@ fn shape_study_input_is_checked() {
     bad_input(run, &["pebble"]);
     let run = rockfall(&["shape-study", "--interval-s", "0", "--out", s(&out)]);
     bad_input(run, &["--interval-s"]);
+    let run = rockfall(&[
+        "shape-study",
+        "--shapes",
+        "flat2.2,FLAT2.2",
+        "--out",
+        s(&out),
+    ]);
+    bad_input(run, &["flat2.2", "twice"]);
+    assert!(
+        !out.exists(),
+        "nothing runs or is written before every shape is checked"
+    );
     let run = rockfall(&["shape-study", s(&tmp.path().join("missing.toml"))]);
     bad_input(run, &["missing.toml"]);
 }

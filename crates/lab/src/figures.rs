@@ -127,7 +127,7 @@ fn partition_figure(path: &Path, runs: &[Labelled]) -> Result<(), LabError> {
         })
         .collect();
     let axes = Axes {
-        x_label: "δE_trans = E_trans⁻ − E_trans⁺ (kJ)".into(),
+        x_label: "δE_trans = E_trans⁻ + W_g − E_trans⁺ (kJ)".into(),
         y_label: "δE_rot = E_rot⁻ − E_rot⁺ (kJ)".into(),
         x_range: None,
         y_range: None,

@@ -90,7 +90,8 @@ pub struct Impact {
     pub offset_m: f64,
     /// Height of the first contact point above the plane, m.
     pub impact_height_m: f64,
-    /// Time of the first contact since release, s.
+    /// Start of the time step in which the stem contact was first detected (at the step's
+    /// midpoint), s since release.
     pub t_impact_s: f64,
     /// Duration of the impact, s.
     pub duration_s: f64,
@@ -137,7 +138,8 @@ impl Impact {
         self.d_e_trans_j() / self.e_trans_in_j
     }
 
-    /// Δω = (ω⁻ − ω⁺) / ω⁻ (NaN for a rock that did not spin).
+    /// Δω = (ω⁻ − ω⁺) / ω⁻ (−∞ for a rock that did not spin before but does after, NaN for
+    /// one that spins neither before nor after).
     pub fn rotation_change(&self) -> f64 {
         (self.omega_in_rads - self.omega_out_rads) / self.omega_in_rads
     }

@@ -55,6 +55,9 @@ pub enum LabError {
         /// What is wrong, and where (line, column).
         what: String,
     },
+    /// A JSON file could not be written.
+    #[error(transparent)]
+    Json(#[from] rockfall_results::ResultsError),
     /// A figure could not be drawn.
     #[error("figure: {0}")]
     Plot(String),

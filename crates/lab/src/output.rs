@@ -7,7 +7,6 @@ use crate::run::LabRun;
 use crate::summary::{Labelled, Metrics, RegimeSummary, regimes_json};
 use crate::table::write_impacts;
 use rockfall_forest::impact_type::{FRONTAL_MAX, LATERAL_MAX};
-use rockfall_raster::atomic::write_bytes_atomic;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 
@@ -35,10 +34,9 @@ pub fn write_lab(
     Ok(files)
 }
 
-/// Writes `value` as pretty JSON (atomically).
+/// Writes `value` as pretty JSON with a final newline (atomically).
 pub fn write_json(path: &Path, value: &Value) -> Result<(), LabError> {
-    let text = serde_json::to_string_pretty(value).unwrap_or_default() + "\n";
-    write_bytes_atomic(path, text.as_bytes()).map_err(LabError::from)
+    rockfall_results::write_json(path, value).map_err(LabError::from)
 }
 
 /// `summary.json` of a run (see the README for the keys).

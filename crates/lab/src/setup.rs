@@ -25,6 +25,9 @@ use rockfall_rigid::solver::SolverSettings;
 use rockfall_rigid::{Quat, V3};
 use rockfall_rng::{Purpose, Rng, stream};
 
+/// Most candidates a laboratory may have (their order is held in memory: 80 MB).
+const MAX_CANDIDATES: u64 = 10_000_000;
+
 /// Everything that defines a laboratory run (defaults: seed 001 §2 and table 1).
 #[derive(Debug, Clone, PartialEq)]
 pub struct LabSetup {
@@ -130,7 +133,7 @@ impl LabSetup {
     /// Number of candidates: lattice points × orientations per point.
     pub fn candidates(&self) -> u64 {
         let n = u64::from(self.lattice_points_per_side);
-        n * n * u64::from(self.orientations_per_point)
+        (n * n).saturating_mul(u64::from(self.orientations_per_point))
     }
 
     /// Checks every value; the message names the setting.
@@ -159,18 +162,30 @@ impl LabSetup {
         if self.lattice_points_per_side < 2 || self.orientations_per_point < 1 {
             return bad("need at least 2 lattice points per side and 1 rock per point");
         }
+        if self.candidates() > MAX_CANDIDATES {
+            return bad("at most 10 000 000 candidates (lattice points × rocks per point)");
+        }
         let ranges = [self.speed_ms, self.spin_rads, self.theta_deg, self.chi_deg];
         if !ranges.into_iter().all(range) || self.speed_ms.0 <= 0.0 || self.spin_rads.0 < 0.0 {
             return bad("speed, spin and angle ranges need lo ≤ hi, speeds > 0 and spins ≥ 0");
         }
-        if !pos(self.dt_s) || !pos(self.max_time_s) || self.dt_s > 0.01 {
-            return bad("the time step must lie in (0, 0.01] s and the time limit be positive");
+        let (theta, chi) = (self.theta_deg, self.chi_deg);
+        if theta.0 < -360.0 || theta.1 > 360.0 || chi.0 <= -90.0 || chi.1 >= 90.0 {
+            return bad("θ must lie within ±360° and χ strictly within ±90° (a horizontal speed)");
+        }
+        let dt_ok = (1e-6..=0.01).contains(&self.dt_s);
+        if !dt_ok || !pos(self.max_time_s) || self.max_time_s > 60.0 {
+            return bad("the time step must lie in [1e-6, 0.01] s and the time limit in (0, 60] s");
         }
         Ok(())
     }
 
     /// Candidate `id` (< [`LabSetup::candidates`]), drawn from its own stream of `seed`.
     pub fn candidate(&self, seed: u64, id: u64) -> Candidate {
+        debug_assert!(
+            id < self.candidates(),
+            "candidate {id} is not on the lattice"
+        );
         let per_point = u64::from(self.orientations_per_point);
         let side = u64::from(self.lattice_points_per_side);
         let point = id / per_point;
@@ -292,6 +307,16 @@ mod tests {
             ..LabSetup::default()
         };
         assert!(s.validate().is_err());
+        s = LabSetup {
+            chi_deg: (-90.0, 40.0),
+            ..LabSetup::default()
+        };
+        assert!(s.validate().unwrap_err().to_string().contains("χ"));
+        s = LabSetup {
+            lattice_points_per_side: 5000,
+            ..LabSetup::default()
+        };
+        assert!(s.validate().unwrap_err().to_string().contains("candidates"));
         LabSetup::default().validate().unwrap();
     }
 }

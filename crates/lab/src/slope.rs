@@ -2,8 +2,9 @@
 //! shape, compared by run-out and lateral spread.
 //!
 //! Each shape's run is an ordinary rigid-engine run whose trajectories are all recorded every
-//! few hundredths of a second; this module reduces them. Distances are horizontal and taken
-//! in the frame of the release point's fall line (the steepest descent of the DEM there):
+//! few hundredths of a second; this module reduces them. Distances are horizontal, measured
+//! from each rock's own start along and across the fall line of the (first) release point —
+//! the steepest descent of the DEM there:
 //!
 //! - **run-out**: how far along the fall line the rock ends up (m; the end point is where it
 //!   stopped, left the DEM or was at the time limit);
@@ -85,9 +86,14 @@ impl FallLine {
         })
     }
 
-    /// (along the fall line, across it to the left), m.
+    /// (along the fall line, across it to the left) of `p` from the origin, m.
     pub fn frame(&self, p: [f64; 2]) -> (f64, f64) {
-        let (dx, dy) = (p[0] - self.origin_m[0], p[1] - self.origin_m[1]);
+        self.offsets(self.origin_m, p)
+    }
+
+    /// (along the fall line, across it to the left) of `p` from `from`, m.
+    pub fn offsets(&self, from: [f64; 2], p: [f64; 2]) -> (f64, f64) {
+        let (dx, dy) = (p[0] - from[0], p[1] - from[1]);
         let [ux, uy] = self.downhill;
         (dx * ux + dy * uy, ux * dy - uy * dx)
     }
@@ -109,47 +115,44 @@ pub struct SlopeStats {
 }
 
 impl SlopeStats {
-    /// Reduces `run` in the frame `line`.
+    /// Reduces `run` in the directions of `line`, each path from its own first point.
     pub fn of(run: &SlopeRun, line: &FallLine) -> SlopeStats {
         let ends: Vec<(f64, f64)> = (run.paths.iter())
-            .filter_map(|p| p.points.last().map(|e| line.frame(*e)))
+            .filter_map(|p| Some(line.offsets(*p.points.first()?, *p.points.last()?)))
             .collect();
         let along = sorted_finite(ends.iter().map(|e| e.0));
         let across = sorted_finite(ends.iter().map(|e| e.1));
-        let widest = sorted_finite(run.paths.iter().map(|p| {
-            (p.points.iter())
-                .map(|q| line.frame(*q).1.abs())
-                .fold(0.0, f64::max)
+        let widest = sorted_finite(run.paths.iter().filter_map(|p| {
+            let from = *p.points.first()?;
+            let off = p.points.iter().map(|q| line.offsets(from, *q).1.abs());
+            Some(off.fold(0.0, f64::max))
         }));
-        let q = |v: &[f64], p: f64| {
-            if v.is_empty() {
-                f64::NAN
-            } else {
-                quantile(v, p)
-            }
-        };
-        let n = across.len().max(1) as f64;
-        let mean_across = across.iter().sum::<f64>() / n;
-        let sd = (across
+        let q = |v: &[f64], p: f64| quantile(v, p);
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        let mean_across = mean(&across);
+        let var = across
             .iter()
             .map(|x| (x - mean_across).powi(2))
             .sum::<f64>()
-            / (n - 1.0).max(1.0))
-        .sqrt();
+            / (across.len() as f64 - 1.0);
         SlopeStats {
             label: run.label.clone(),
             rocks: run.paths.len(),
             runout_m: [
-                along.iter().sum::<f64>() / along.len().max(1) as f64,
+                mean(&along),
                 q(&along, 0.5),
                 q(&along, 0.95),
                 q(&along, 1.0),
             ],
             lateral_end_m: [
-                sd,
+                if across.len() > 1 {
+                    var.sqrt()
+                } else {
+                    f64::NAN
+                },
                 q(&across, 0.05),
                 q(&across, 0.95),
-                across.iter().fold(0.0, |m, x| m.max(x.abs())),
+                q(&across, 0.0).abs().max(q(&across, 1.0).abs()),
             ],
             lateral_path_m: [q(&widest, 0.5), q(&widest, 0.95), q(&widest, 1.0)],
         }
@@ -187,7 +190,7 @@ impl SlopeStats {
 fn pick(stats: &[SlopeStats], key: impl Fn(&SlopeStats) -> f64, largest: bool) -> Option<&str> {
     let better = |a: f64, b: f64| if largest { a > b } else { a < b };
     let mut best: Option<&SlopeStats> = None;
-    for s in stats {
+    for s in stats.iter().filter(|s| key(s).is_finite()) {
         if best.is_none_or(|b| better(key(s), key(b))) {
             best = Some(s);
         }
@@ -282,13 +285,20 @@ pub fn plan_view(path: &Path, runs: &[SlopeRun]) -> Result<(), LabError> {
         .map_err(|e| LabError::Plot(e.to_string()))
 }
 
+/// What [`write_study`] wrote.
+#[derive(Debug, Clone)]
+pub struct Study {
+    /// The statistics per shape.
+    pub stats: Vec<SlopeStats>,
+    /// `study.md`'s text.
+    pub markdown: String,
+    /// The files written.
+    pub files: Vec<std::path::PathBuf>,
+}
+
 /// Writes the study of `runs` into `out_dir`: `trajectories_plan.png`, `study.json` and
-/// `study.md`; returns the statistics per shape and the files written.
-pub fn write_study(
-    out_dir: &Path,
-    runs: &[SlopeRun],
-    line: &FallLine,
-) -> Result<(Vec<SlopeStats>, Vec<std::path::PathBuf>), LabError> {
+/// `study.md`.
+pub fn write_study(out_dir: &Path, runs: &[SlopeRun], line: &FallLine) -> Result<Study, LabError> {
     let stats: Vec<SlopeStats> = runs.iter().map(|r| SlopeStats::of(r, line)).collect();
     let plan = out_dir.join("trajectories_plan.png");
     plan_view(&plan, runs)?;
@@ -322,5 +332,9 @@ pub fn write_study(
         name("least_spread"),
     );
     rockfall_raster::atomic::write_bytes_atomic(&md_path, md.as_bytes()).map_err(LabError::from)?;
-    Ok((stats, vec![plan, json_path, md_path]))
+    Ok(Study {
+        stats,
+        markdown: md,
+        files: vec![plan, json_path, md_path],
+    })
 }

@@ -28,9 +28,9 @@ pub struct Described {
 }
 
 impl Described {
-    /// `{"mean", "p50", "mode"}`.
+    /// `{"n", "mean", "p50", "mode"}` (`n`: the finite values described).
     pub fn json(&self) -> Value {
-        json!({"mean": self.mean, "p50": self.p50, "mode": self.mode})
+        json!({"n": self.n, "mean": self.mean, "p50": self.p50, "mode": self.mode})
     }
 }
 
@@ -55,9 +55,12 @@ pub fn describe(values: impl IntoIterator<Item = f64>) -> Option<Described> {
     })
 }
 
-/// Quantile `p` ∈ [0, 1] of `sorted` (non-empty, ascending), by linear interpolation between
-/// order statistics (Hyndman & Fan type 7).
+/// Quantile `p` ∈ [0, 1] of `sorted` (ascending), by linear interpolation between order
+/// statistics (Hyndman & Fan type 7); NaN for an empty sample.
 pub fn quantile(sorted: &[f64], p: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
     let h = (sorted.len() - 1) as f64 * p.clamp(0.0, 1.0);
     let (lo, frac) = (h.floor() as usize, h - h.floor());
     let hi = (lo + 1).min(sorted.len() - 1);
@@ -169,6 +172,7 @@ mod tests {
         let area: f64 = curve.iter().map(|(_, d)| d * dx).sum();
         assert!((area - 1.0).abs() < 1e-3, "{area}");
         assert!(describe([f64::NAN]).is_none());
+        assert!(quantile(&[], 0.5).is_nan());
         assert_eq!(describe([0.4, f64::NAN]).unwrap().n, 1);
         let constant = describe([0.3; 10]).unwrap();
         assert!((constant.mode - 0.3).abs() < 1e-6 && constant.p50 == 0.3);

@@ -92,39 +92,6 @@ pub fn regimes_json(metrics: &[Metrics]) -> Value {
     Value::Object(m)
 }
 
-#[cfg(test)]
-mod tests {
-    #![allow(clippy::unwrap_used)]
-    use super::*;
-
-    fn m(regime: Regime, loss: f64) -> Metrics {
-        Metrics {
-            regime,
-            total_energy_loss: loss,
-            trans_energy_loss: loss,
-            rotation_change: 0.5,
-            d_e_rot_j: 1.0,
-            d_e_trans_j: 2.0,
-        }
-    }
-
-    #[test]
-    fn regimes_are_summarised_apart() {
-        let v = vec![
-            m(Regime::Frontal, 0.8),
-            m(Regime::Frontal, 0.9),
-            m(Regime::Scratch, 0.4),
-        ];
-        let j = regimes_json(&v);
-        assert_eq!(j["frontal"]["n"], 2);
-        assert!((j["frontal"]["total_energy_loss"]["mean"].as_f64().unwrap() - 0.85).abs() < 1e-12);
-        assert_eq!(j["scratch"]["trans_energy_loss"]["p50"], 0.4);
-        assert_eq!(j["lateral"]["n"], 0);
-        assert!(j["lateral"]["rotation_change"].is_null());
-        assert!((j["scratch"]["share"].as_f64().unwrap() - 1.0 / 3.0).abs() < 1e-12);
-    }
-}
-
 /// One labelled set of impacts (a shape's run).
 #[derive(Debug, Clone)]
 pub struct Labelled {
@@ -159,4 +126,37 @@ pub fn regime_table(runs: &[Labelled]) -> String {
 
 fn pct(x: f64) -> String {
     format!("{:.0} %", 100.0 * x)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    fn m(regime: Regime, loss: f64) -> Metrics {
+        Metrics {
+            regime,
+            total_energy_loss: loss,
+            trans_energy_loss: loss,
+            rotation_change: 0.5,
+            d_e_rot_j: 1.0,
+            d_e_trans_j: 2.0,
+        }
+    }
+
+    #[test]
+    fn regimes_are_summarised_apart() {
+        let v = vec![
+            m(Regime::Frontal, 0.8),
+            m(Regime::Frontal, 0.9),
+            m(Regime::Scratch, 0.4),
+        ];
+        let j = regimes_json(&v);
+        assert_eq!(j["frontal"]["n"], 2);
+        assert!((j["frontal"]["total_energy_loss"]["mean"].as_f64().unwrap() - 0.85).abs() < 1e-12);
+        assert_eq!(j["scratch"]["trans_energy_loss"]["p50"], 0.4);
+        assert_eq!(j["lateral"]["n"], 0);
+        assert!(j["lateral"]["rotation_change"].is_null());
+        assert!((j["scratch"]["share"].as_f64().unwrap() - 1.0 / 3.0).abs() < 1e-12);
+    }
 }

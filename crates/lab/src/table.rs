@@ -97,6 +97,15 @@ fn number(x: f64) -> String {
     }
 }
 
+/// The columns [`read_metrics`] reads, besides `regime`, in the order of [`Metrics`].
+const METRIC_COLUMNS: [&str; 5] = [
+    "total_energy_loss",
+    "trans_energy_loss",
+    "rotation_change",
+    "d_e_rot_j",
+    "d_e_trans_j",
+];
+
 /// The metrics of every row of an `impacts.csv`; errors name the file, line and column.
 pub fn read_metrics(path: &Path) -> Result<Vec<Metrics>, LabError> {
     let text =
@@ -108,54 +117,52 @@ pub fn read_metrics(path: &Path) -> Result<Vec<Metrics>, LabError> {
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
     let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
+        (header.iter().position(|h| *h == name))
             .ok_or_else(|| bad(format!("line 1: no column `{name}` (not an impacts.csv?)")))
     };
     let regime = col("regime")?;
-    let cols = [
-        col("total_energy_loss")?,
-        col("trans_energy_loss")?,
-        col("rotation_change")?,
-        col("d_e_rot_j")?,
-        col("d_e_trans_j")?,
-    ];
+    let mut cols = [0; 5];
+    for (c, name) in cols.iter_mut().zip(METRIC_COLUMNS) {
+        *c = col(name)?;
+    }
     let mut out = Vec::new();
     for (k, line) in lines.enumerate().filter(|(_, l)| !l.trim().is_empty()) {
-        let at = k + 2;
-        let fields: Vec<&str> = line.split(',').collect();
-        let field = |c: usize| {
-            fields
-                .get(c)
-                .copied()
-                .ok_or_else(|| bad(format!("line {at}: only {} columns", fields.len())))
-        };
-        let r = field(regime)?;
-        let regime =
-            Regime::from_name(r).ok_or_else(|| bad(format!("line {at}: unknown regime `{r}`")))?;
-        let mut v = [f64::NAN; 5];
-        for (slot, &c) in v.iter_mut().zip(&cols) {
-            let f = field(c)?;
-            *slot = if f.is_empty() {
-                f64::NAN
-            } else {
-                f.parse().map_err(|_| {
-                    bad(format!(
-                        "line {at}, column `{}`: `{f}` is not a number",
-                        header[c]
-                    ))
-                })?
-            };
-        }
-        out.push(Metrics {
-            regime,
-            total_energy_loss: v[0],
-            trans_energy_loss: v[1],
-            rotation_change: v[2],
-            d_e_rot_j: v[3],
-            d_e_trans_j: v[4],
-        });
+        out.push(
+            parse_row(line, regime, &cols).map_err(|what| bad(format!("line {}{what}", k + 2)))?,
+        );
     }
     Ok(out)
+}
+
+/// One row's metrics from the columns `regime` and `cols`; the error text continues
+/// "line N".
+fn parse_row(line: &str, regime: usize, cols: &[usize; 5]) -> Result<Metrics, String> {
+    let fields: Vec<&str> = line.split(',').collect();
+    let field = |c: usize| {
+        (fields.get(c).copied()).ok_or_else(|| format!(": only {} columns", fields.len()))
+    };
+    let r = field(regime)?;
+    let regime = Regime::from_name(r).ok_or_else(|| format!(": unknown regime `{r}`"))?;
+    let mut v = [f64::NAN; 5];
+    for ((slot, &c), name) in v.iter_mut().zip(cols).zip(METRIC_COLUMNS) {
+        let f = field(c)?;
+        if !f.is_empty() {
+            *slot = (f.parse()).map_err(|_| format!(", column `{name}`: `{f}` is not a number"))?;
+        }
+    }
+    let [
+        total_energy_loss,
+        trans_energy_loss,
+        rotation_change,
+        d_e_rot_j,
+        d_e_trans_j,
+    ] = v;
+    Ok(Metrics {
+        regime,
+        total_energy_loss,
+        trans_energy_loss,
+        rotation_change,
+        d_e_rot_j,
+        d_e_trans_j,
+    })
 }

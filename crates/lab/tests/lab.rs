@@ -253,3 +253,96 @@ fn impacts_csv_reads_back_exactly() {
     assert_eq!(summary["samples"], 40);
     assert_eq!(summary["candidates_tried"], run.tried);
 }
+
+#[test]
+fn gravity_work_is_the_drop_of_the_centre_during_the_impact() {
+    // μ = 0: the stem pushes (almost) horizontally, so the vertical velocity changes only by
+    // gravity and the centre drops by ≈ −½ (v_z⁻ + v_z⁺) T over the impact's T; the work
+    // m g (z⁻ − z⁺) is positive for a falling rock and negative for a rising one
+    let setup = LabSetup {
+        mu: 0.0,
+        ..LabSetup::default()
+    };
+    let lab = lab("ball", setup);
+    let m = lab.body().mass_kg;
+    for chi_deg in [-40.0, 30.0] {
+        let i = hit(&lab, &aimed(0.0, 6.0, chi_deg));
+        assert!(i.contact_steps >= 1, "{i:?}");
+        let drop_m = -0.5 * (i.v_in_ms.z + i.v_out_ms.z) * i.duration_s;
+        let expected = m * rockfall_rigid::G_MS2 * drop_m;
+        println!(
+            "χ {chi_deg}: {} steps, W_g {} J, by hand {expected} J",
+            i.contact_steps, i.gravity_work_j
+        );
+        assert_eq!(i.gravity_work_j.signum(), -chi_deg.signum(), "{i:?}");
+        assert!(
+            (i.gravity_work_j / expected - 1.0).abs() < 1e-3,
+            "χ {chi_deg}: W_g {} vs {expected} by hand",
+            i.gravity_work_j
+        );
+        // and it is credited to the translational loss
+        let by_hand = i.e_trans_in_j + i.gravity_work_j - i.e_trans_out_j;
+        assert!((i.d_e_trans_j() - by_hand).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn run_lab_keeps_the_first_hits_in_the_seeded_order() {
+    // the sample is the first `samples` hits of `LabSetup::order`, whatever order the worker
+    // threads finish in: replay the candidates one by one and compare
+    let setup = LabSetup::default();
+    let lab = lab("cubic1.2", setup.clone());
+    let (seed, samples) = (3, 40);
+    let run = run_lab(&lab, seed, samples, 2, &|_| {}).unwrap();
+    let mut scratch = StepScratch::default();
+    let (mut expected, mut tried) = (Vec::new(), 0_u64);
+    for id in setup.order(seed) {
+        tried += 1;
+        if let Trial::Hit(i) = lab.try_candidate(&setup.candidate(seed, id), &mut scratch) {
+            expected.push(*i);
+            if expected.len() as u64 == samples {
+                break;
+            }
+        }
+    }
+    assert_eq!(run.tried, tried);
+    let ids = |v: &[Impact]| v.iter().map(|i| i.candidate.id).collect::<Vec<_>>();
+    assert_eq!(ids(&run.impacts), ids(&expected));
+    assert_eq!(run.impacts, expected);
+}
+
+#[test]
+fn slope_offsets_are_along_and_to_the_left_of_the_fall_line() {
+    use rockfall_lab::slope::{FallLine, RockPath, SlopeRun, SlopeStats};
+    // ground rising towards +y: the fall line points to −y; looking downhill (south), +x
+    // (east) is on the left
+    let line = FallLine::new([10.0, 20.0], 0.0, 0.5).unwrap();
+    assert_eq!(line.downhill, [0.0, -1.0]);
+    assert_eq!(line.frame([11.0, 17.0]), (3.0, 1.0));
+    assert_eq!(line.frame([8.0, 20.0]), (0.0, -2.0));
+    // ground falling towards +x: looking downhill (east), +y (north) is on the left
+    let east = FallLine::new([0.0, 0.0], -1.0, 0.0).unwrap();
+    assert_eq!(east.frame([4.0, 2.0]), (4.0, 2.0));
+    assert!(FallLine::new([0.0, 0.0], 0.0, 0.0).is_none());
+    // two rocks ending 1 m and 3 m to the left, 5 m and 10 m down; the second strays 4 m
+    // to the left on its way
+    let path = |points: Vec<[f64; 2]>| RockPath {
+        energy_j: vec![1.0; points.len()],
+        points,
+    };
+    let run = SlopeRun {
+        label: "test".into(),
+        summary: serde_json::Value::Null,
+        paths: vec![
+            path(vec![[10.0, 20.0], [11.0, 15.0]]),
+            path(vec![[10.0, 20.0], [14.0, 15.0], [13.0, 10.0]]),
+        ],
+    };
+    let s = SlopeStats::of(&run, &line);
+    let close = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-12);
+    assert_eq!(s.rocks, 2);
+    assert!(close(&s.runout_m, &[7.5, 7.5, 9.75, 10.0]), "{s:?}");
+    let sd = 2.0_f64.sqrt();
+    assert!(close(&s.lateral_end_m, &[sd, 1.1, 2.9, 3.0]), "{s:?}");
+    assert!(close(&s.lateral_path_m, &[2.5, 3.85, 4.0]), "{s:?}");
+}

@@ -52,7 +52,7 @@ pub use parallel::{PoolError, RockNumbering, RunOptions, run_rocks};
 pub use results::{Results, RunInfo};
 pub use screens::ScreenSet;
 pub use tally::Tally;
-pub use write::{ResultsError, TRAJECTORY_HEADER};
+pub use write::{ResultsError, TRAJECTORY_HEADER, write_json};
 
 use rockfall_raster::{Crs, GridGeometry};
 use rockfall_scenario::{Scenario, Screen};

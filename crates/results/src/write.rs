@@ -75,7 +75,7 @@ pub(crate) fn write_raster(
 }
 
 /// Writes a JSON value, pretty-printed with a final newline, to `path` atomically.
-pub(crate) fn write_json(path: &Path, value: &serde_json::Value) -> Result<(), ResultsError> {
+pub fn write_json(path: &Path, value: &serde_json::Value) -> Result<(), ResultsError> {
     let mut text = serde_json::to_string_pretty(value).map_err(|e| ResultsError::Io {
         path: path.to_path_buf(),
         source: std::io::Error::other(e),

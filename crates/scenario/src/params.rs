@@ -213,7 +213,9 @@ pub struct OutputSettings {
     /// Number of trajectories written in full to `trajectories.csv` (default 10).
     pub trajectories: u64,
     /// Rigid engine: shortest time between two recorded rows of a trajectory, s (default 0:
-    /// every time step); the final row is always written. The lumped engine records events.
+    /// every time step); the final row is always written, rows in between only when due, so
+    /// the `impact`/`tree` events of skipped steps are not in the file (the rasters and
+    /// `summary.json` count every one). The lumped engine records events.
     pub trajectory_interval_s: f64,
     /// Also write every raster as ESRI ASCII grid (default false: GeoTIFF only).
     pub ascii_rasters: bool,
