@@ -68,6 +68,25 @@ pub fn figures(out_dir: &Path, runs: &[Labelled]) -> Result<Vec<PathBuf>, LabErr
     Ok(files)
 }
 
+/// One panel per regime, one series per run with the points `points(run, regime)`.
+fn regime_panels(
+    runs: &[Labelled],
+    points: impl Fn(&Labelled, Regime) -> Vec<(f64, f64)>,
+) -> Vec<Panel> {
+    Regime::ALL
+        .iter()
+        .map(|&r| Panel {
+            title: r.name().to_string(),
+            series: (runs.iter())
+                .map(|run| Series {
+                    label: run.label.clone(),
+                    points: points(run, r),
+                })
+                .collect(),
+        })
+        .collect()
+}
+
 fn values(run: &Labelled, regime: Option<Regime>, metric: Metric) -> Vec<f64> {
     run.metrics
         .iter()
@@ -84,19 +103,9 @@ fn pdf_figure(path: &Path, f: &PdfFigure, runs: &[Labelled]) -> Result<(), LabEr
         quantile(&all, 0.005).clamp(f.floor_pct, 0.0)
     };
     let hi = all.last().map_or(100.0, |v| v.max(100.0));
-    let panels: Vec<Panel> = Regime::ALL
-        .iter()
-        .map(|&r| Panel {
-            title: r.name().to_string(),
-            series: runs
-                .iter()
-                .map(|run| Series {
-                    label: run.label.clone(),
-                    points: pdf_curve(&values(run, Some(r), f.metric), (lo, hi), CURVE_POINTS),
-                })
-                .collect(),
-        })
-        .collect();
+    let panels = regime_panels(runs, |run, r| {
+        pdf_curve(&values(run, Some(r), f.metric), (lo, hi), CURVE_POINTS)
+    });
     let top = (panels.iter().flat_map(|p| &p.series))
         .flat_map(|s| s.points.iter().map(|p| p.1))
         .fold(0.0_f64, f64::max);
@@ -110,22 +119,12 @@ fn pdf_figure(path: &Path, f: &PdfFigure, runs: &[Labelled]) -> Result<(), LabEr
 }
 
 fn partition_figure(path: &Path, runs: &[Labelled]) -> Result<(), LabError> {
-    let panels: Vec<Panel> = Regime::ALL
-        .iter()
-        .map(|&r| Panel {
-            title: r.name().to_string(),
-            series: runs
-                .iter()
-                .map(|run| Series {
-                    label: run.label.clone(),
-                    points: (run.metrics.iter())
-                        .filter(|m| m.regime == r)
-                        .map(|m| (m.d_e_trans_j / 1e3, m.d_e_rot_j / 1e3))
-                        .collect(),
-                })
-                .collect(),
-        })
-        .collect();
+    let panels = regime_panels(runs, |run, r| {
+        (run.metrics.iter())
+            .filter(|m| m.regime == r)
+            .map(|m| (m.d_e_trans_j / 1e3, m.d_e_rot_j / 1e3))
+            .collect()
+    });
     let axes = Axes {
         x_label: "δE_trans = E_trans⁻ + W_g − E_trans⁺ (kJ)".into(),
         y_label: "δE_rot = E_rot⁻ − E_rot⁺ (kJ)".into(),
