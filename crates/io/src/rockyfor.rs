@@ -12,10 +12,7 @@
 use crate::{InputError, scenario_error, trees};
 use rockfall_forest::StandOptions;
 use rockfall_raster::{Field, Grid, ascii_grid};
-use rockfall_scenario::{
-    ContactSettings, Engine, ForestSpec, LumpedSettings, Nets, OutputSettings, Release,
-    RigidParams, RockShape, RockSpec, Scenario, SimulationSettings, Stands,
-};
+use rockfall_scenario::{ForestSpec, Nets, Release, RockShape, RockSpec, Scenario, Stands};
 use rockfall_terrain::{Dem, SurfaceMap, Terrain};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -148,29 +145,20 @@ pub fn read_folder(dir: &Path) -> Result<Scenario, InputError> {
     }
     let terrain =
         Terrain::new(dem, surface).map_err(|e| scenario_error(e.into(), &sources, &dem_path))?;
+    let name = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "rockyfor3d".into());
+    let release = Release {
+        cells,
+        ..Release::default()
+    };
     let scenario = Scenario {
-        name: dir
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "rockyfor3d".into()),
-        engine: Engine::Lumped,
-        seed: 1,
-        terrain,
         forest,
         nets,
-        rock,
-        release: Release {
-            cells,
-            ..Release::default()
-        },
-        screens: Vec::new(),
-        lumped: LumpedSettings::default(),
-        rigid: RigidParams::default(),
-        contact: ContactSettings::default(),
-        simulation: SimulationSettings::default(),
-        output: OutputSettings::default(),
         sources,
         notes,
+        ..Scenario::new(&name, terrain, rock, release)
     };
     scenario
         .validate()

@@ -108,9 +108,10 @@ pub fn regime_table(runs: &[Labelled]) -> String {
         "| regime | shape | n | ΔE_total mode | mean | p50 | ΔE_trans mode | mean | p50 \
          | Δω mode | mean | p50 |\n|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n",
     );
+    let summaries: Vec<[RegimeSummary; 3]> = runs.iter().map(|r| by_regime(&r.metrics)).collect();
     for (r, regime) in Regime::ALL.iter().enumerate() {
-        for run in runs {
-            let s = &by_regime(&run.metrics)[r];
+        for (run, summary) in runs.iter().zip(&summaries) {
+            let s = &summary[r];
             t += &format!("| {} | {} | {} |", regime.name(), run.label, s.n);
             for d in &s.stats {
                 t += &match d {

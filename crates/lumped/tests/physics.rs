@@ -17,7 +17,7 @@ use rockfall_lumped::{G_MS2, LumpedModel, RunOptions};
 use rockfall_raster::{Field, Grid};
 use rockfall_results::{Event, Layout, Results, RunInfo, TrajectoryRow};
 use rockfall_scenario::{
-    BlockShape, ForestSpec, LumpedSettings, MohMode, Release, ReleasePoint, RockSpec, Scenario,
+    BlockShape, ForestSpec, LumpedSettings, Release, ReleasePoint, RockSpec, Scenario,
 };
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
 use std::sync::Arc;
@@ -57,16 +57,6 @@ fn scenario(terrain: Terrain, points: Vec<ReleasePoint>, rocks: u64) -> Scenario
     );
     s.simulation.rocks_per_point = rocks;
     s
-}
-
-/// Deterministic settings: the eq. 4 mean MOH, no r_t variation, no slope reduction.
-fn exact() -> LumpedSettings {
-    LumpedSettings {
-        moh: MohMode::Mean,
-        rt_variation: 0.0,
-        slope_reduction_max_deg: 0.0,
-        ..LumpedSettings::default()
-    }
 }
 
 fn run(s: &Scenario, forest: Option<&Forest>, trajectories: u64) -> Results {
@@ -111,7 +101,7 @@ fn first_rebounds_on_flat_ground_match_the_hand_calculation() {
         ..ReleasePoint::at_rest(x0, y0, h)
     };
     let mut s = scenario(t, vec![p], 1);
-    s.lumped = exact();
+    s.lumped = LumpedSettings::deterministic();
     let res = run(&s, None, 1);
     let rows = res.trajectories();
     let impacts: Vec<&TrajectoryRow> = rows.iter().filter(|r| r.event == Event::Impact).collect();

@@ -87,6 +87,19 @@ impl Default for LumpedSettings {
     }
 }
 
+impl LumpedSettings {
+    /// The default settings without their random variation: the eq. 4 mean MOH, no r_t
+    /// variation, no slope reduction — rebounds that can be checked by hand.
+    pub fn deterministic() -> Self {
+        LumpedSettings {
+            moh: MohMode::Mean,
+            rt_variation: 0.0,
+            slope_reduction_max_deg: 0.0,
+            ..LumpedSettings::default()
+        }
+    }
+}
+
 /// Contact law parameters of one contact type (seed 001 §2: Newton impact law with
 /// restitution ε_N, ε_T and Coulomb friction μ).
 #[derive(Debug, Clone, Copy, PartialEq)]
