@@ -95,6 +95,7 @@ fn lumped_parameters(
     let first = model.sources().first();
     let v = json!({
         "moh": format!("{:?}", l.moh).to_lowercase(),
+        "tangential_law": l.tangential.name(),
         "rt_variation": l.rt_variation,
         "slope_reduction_max_deg": l.slope_reduction_max_deg,
         "max_lateral_deviation_deg": l.max_lateral_deviation_deg,

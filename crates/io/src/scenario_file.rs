@@ -342,6 +342,10 @@ impl Resolver {
                 None => d.moh,
                 Some(m) => m.parse().map_err(|e| self.invalid("lumped.moh", e))?,
             },
+            tangential: match l.tangential_law {
+                None => d.tangential,
+                Some(m) => (m.parse()).map_err(|e| self.invalid("lumped.tangential_law", e))?,
+            },
             rt_variation: l.rt_variation.unwrap_or(d.rt_variation),
             slope_reduction_max_deg: l
                 .slope_reduction_max_deg

@@ -130,6 +130,7 @@ pub struct RigidSec {
 #[serde(deny_unknown_fields)]
 pub struct LumpedSec {
     pub moh: Option<String>,
+    pub tangential_law: Option<String>,
     pub rt_variation: Option<f64>,
     pub slope_reduction_max_deg: Option<f64>,
     pub max_lateral_deviation_deg: Option<f64>,

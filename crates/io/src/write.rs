@@ -275,7 +275,8 @@ fn settings_toml(s: &Scenario, t: &mut String) {
     };
     let _ = write!(
         t,
-        "\n[lumped]\nmoh = \"{moh}\"\nrt_variation = {}\nslope_reduction_max_deg = {}\nmax_lateral_deviation_deg = {}\nstop_velocity_ms = {}\n",
+        "\n[lumped]\nmoh = \"{moh}\"\ntangential_law = \"{}\"\nrt_variation = {}\nslope_reduction_max_deg = {}\nmax_lateral_deviation_deg = {}\nstop_velocity_ms = {}\n",
+        l.tangential.name(),
         num(l.rt_variation),
         num(l.slope_reduction_max_deg),
         num(l.max_lateral_deviation_deg),

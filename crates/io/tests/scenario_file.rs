@@ -556,3 +556,27 @@ fn tree_lists_with_a_byte_order_mark_load_every_tree() {
         assert_eq!((stems[0].x_m, stems[0].dbh_cm), (10.0, 30.0), "{file}");
     }
 }
+
+#[test]
+fn tangential_law_parses_round_trips_and_names_bad_values() {
+    use rockfall_scenario::TangentialLaw;
+    assert_eq!(
+        loads(MINIMAL).lumped.tangential,
+        TangentialLaw::PfeifferBowen,
+        "default"
+    );
+    let text = format!("{MINIMAL}[lumped]\ntangential_law = \"velocity-ratio\"\n");
+    assert_eq!(loads(&text).lumped.tangential, TangentialLaw::VelocityRatio);
+    fails(
+        &edit(&text, "velocity-ratio", "energy"),
+        &["lumped.tangential_law", "energy", "pfeiffer-bowen"],
+    );
+    for law in [TangentialLaw::PfeifferBowen, TangentialLaw::VelocityRatio] {
+        let dir = tempfile::tempdir().unwrap();
+        let mut site = rockfall_sites::build("vaujany-site1").unwrap();
+        site.lumped.tangential = law;
+        rockfall_io::write::write_scenario_dir(&site, dir.path()).unwrap();
+        let back = load(&dir.path().join("scenario.toml")).unwrap();
+        assert_eq!(back.lumped, site.lumped);
+    }
+}

@@ -2,32 +2,38 @@
 //!
 //! In the frame of the (randomly flattened) local surface:
 //! - **normal**: `v_n⁺ = r_n · |v_n⁻|`, r_n of the cell's surface class;
-//! - **tangential with rotation**: Pfeiffer & Bowen let the rock leave the ground rolling, its
-//!   tangential speed set by the tangential and rotational energy it brought in, scaled by
-//!   friction and roughness factors. We keep that structure and write it with the angular
-//!   momentum about the contact point, which the ground's friction impulse cannot change
-//!   while the rock is brought to rolling:
-//!   `v_t⁺ = r_t · (m R² v_t⁻ + I R ω⁻) / (m R² + I)`, `ω⁺ = v_t⁺ / R`,
-//!   with ω⁻ the incoming spin about the rolling axis (positive when rolling forward) and r_t
-//!   of eq. 3 standing for Pfeiffer & Bowen's friction and scaling factors. A rock that
-//!   already rolls (`ω⁻ R = v_t⁻`) keeps `v_t⁺ = r_t v_t⁻`, exactly the ratio seed 000 §3.2
-//!   measured on its films; a sliding rock without spin is first brought to rolling
-//!   (`v_t⁺ = r_t · 5/7 · v_t⁻` for a sphere); backspin slows it, or turns it back.
+//! - **tangential with rotation**: Pfeiffer & Bowen (1989, CRSP) let the rock leave the ground
+//!   rolling, its tangential speed set by the tangential and rotational energy it brought in,
+//!   scaled by a friction and a scaling factor: `v_t⁺ = √(R²(I ω⁻² + m v_t⁻²) f(F) SF /
+//!   (I + m R²))`. RockyFor puts r_t of eq. 3 in place of `f(F)·SF`
+//!   ([`TangentialLaw::PfeifferBowen`], the default):
+//!   `v_t⁺ = √(r_t (k v_t⁻² + (1−k) R² ω⁻²))`, `k = mR²/(mR² + I)`, `ω⁺ = v_t⁺ / R`,
+//!   with ω⁻ the incoming spin about the rolling axis. r_t scales energy: a rolling rock
+//!   keeps `√r_t · v_t⁻`, and the rebound's tangential and rotational energy is `r_t` times
+//!   what came in.
+//! - the alternative [`TangentialLaw::VelocityRatio`] reads r_t as the velocity ratio seed 000
+//!   §3.2 measured on its films, with the angular momentum about the contact point (which the
+//!   ground's friction impulse cannot change while the rock is brought to rolling):
+//!   `v_t⁺ = r_t · (m R² v_t⁻ + I R ω⁻) / (m R² + I)`; a rolling rock keeps `r_t v_t⁻`, a
+//!   sliding rock without spin is first brought to rolling (`r_t · 5/7 · v_t⁻` for a sphere),
+//!   backspin slows it or turns it back.
 //! - `r_t = 1 / (1 + MOH/R)` (eq. 3), MOH drawn per rebound from the cover classes
 //!   70/20/10 % or their weighted mean (eq. 4), then varied uniformly by ±`rt_variation`
 //!   (§2.5: 10 %) and capped at 1.
 //! - the local slope angle is lowered by a uniform 0–`slope_reduction_max_deg` (§2.5: 4°).
 //!
 //! With r_n ≤ 1 and r_t ≤ 1 the kinetic energy after the rebound never exceeds the energy
-//! before: `½(m + I/R²)(k v + (1−k) R ω)² ≤ ½ m v² + ½ I ω²` with `k = mR²/(mR² + I)`
-//! (convexity), and spin about other axes is given up.
+//! before. Pfeiffer & Bowen: the outgoing rolling energy `½ m v_t⁺²/k` is r_t times the
+//! incoming tangential and rotational energy `½ m v_t⁻² + ½ I ω⁻²`. Velocity ratio:
+//! `½(m + I/R²)(k v + (1−k) R ω)² ≤ ½ m v² + ½ I ω²` (convexity). Spin about other axes is
+//! given up in both.
 
 use crate::V3;
 use crate::body::RockBody;
 use crate::ground::CellParams;
 use rand::RngExt;
 use rockfall_rng::Rng;
-use rockfall_scenario::{LumpedSettings, MohMode};
+use rockfall_scenario::{LumpedSettings, MohMode, TangentialLaw};
 
 /// The outcome of a rebound, before the fall direction is chosen.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -37,7 +43,8 @@ pub struct Rebound {
     /// Unit tangent of the incoming motion in that surface (downslope when the rock came
     /// straight down).
     pub tangent: V3,
-    /// Outgoing tangential speed along `tangent`, m/s; negative when backspin turned the rock.
+    /// Outgoing tangential speed along `tangent`, m/s; negative when backspin turned the rock
+    /// (velocity-ratio law only).
     pub vt_ms: f64,
     /// Outgoing normal speed, m/s (≥ 0).
     pub vn_ms: f64,
@@ -114,8 +121,7 @@ pub fn rebound(
     let moh = obstacle_height_m(cell, settings.moh, rng);
     let variation = 1.0 + settings.rt_variation * (2.0 * rng.random::<f64>() - 1.0);
     let r_t = (tangential_coefficient(moh, body.radius_m) * variation).clamp(0.0, 1.0);
-    let k = body.rolling_factor();
-    let vt_ms = r_t * (k * vt_in + (1.0 - k) * body.radius_m * omega_in);
+    let vt_ms = tangential_speed_ms(settings.tangential, r_t, vt_in, omega_in, body);
     let vn_ms = cell.r_n.clamp(0.0, 1.0) * (-vn_in).max(0.0);
     Rebound {
         normal: n,
@@ -124,6 +130,27 @@ pub fn rebound(
         vn_ms,
         r_t,
         moh_m: moh,
+    }
+}
+
+/// Outgoing tangential speed (m/s) of a rock arriving with tangential speed `vt_in` (m/s)
+/// and spin `omega_in` about the rolling axis (rad/s, positive rolling forward), by `law`
+/// (module documentation; Pfeiffer & Bowen 1989 as adapted in seed 000 §2.5).
+#[inline]
+pub fn tangential_speed_ms(
+    law: TangentialLaw,
+    r_t: f64,
+    vt_in: f64,
+    omega_in: f64,
+    body: &RockBody,
+) -> f64 {
+    let k = body.rolling_factor();
+    let spin_ms = body.radius_m * omega_in;
+    match law {
+        TangentialLaw::PfeifferBowen => {
+            (r_t * (k * vt_in * vt_in + (1.0 - k) * spin_ms * spin_ms)).sqrt()
+        }
+        TangentialLaw::VelocityRatio => r_t * (k * vt_in + (1.0 - k) * spin_ms),
     }
 }
 
@@ -187,47 +214,65 @@ mod tests {
         b.translational_energy_j(v) + b.rotational_energy_j(w)
     }
 
-    #[test]
-    fn rebound_with_given_coefficients_on_flat_ground() {
+    fn settings(law: TangentialLaw) -> LumpedSettings {
+        LumpedSettings {
+            tangential: law,
+            ..LumpedSettings::deterministic()
+        }
+    }
+
+    /// A ball of R = 0.5 m arriving at (5, 0, −4) m/s on flat ground of r_n 0.4 and
+    /// MOH = R/4 (r_t = 0.8), spinning at `spin` × the rolling rate about the rolling axis.
+    fn ball_rebound(law: TangentialLaw, spin: f64) -> (RockBody, V3, V3, Rebound) {
         let b = RockBody::new(BlockShape::Spherical, [1.0; 3], 2700.0).unwrap();
         let mut rng = rockfall_rng::stream(1, rockfall_rng::Purpose::Sampling, &[]);
-        // MOH = R/4 → r_t = 0.8; rolling already: v_t⁺ = 0.8 v_t⁻
         let v = V3::new(5.0, 0.0, -4.0);
-        let w = V3::UP.cross(V3::new(1.0, 0.0, 0.0)) * (5.0 / 0.5);
+        let w = V3::UP.cross(V3::new(1.0, 0.0, 0.0)) * (spin * 5.0 / 0.5);
         let r = rebound(
             &b,
             v,
             w,
             V3::UP,
             &cell(0.4, 0.125),
-            &LumpedSettings::deterministic(),
+            &settings(law),
             &mut rng,
         );
         assert!((r.r_t - 0.8).abs() < 1e-12);
-        assert!((r.vt_ms - 4.0).abs() < 1e-12, "{}", r.vt_ms);
         assert!((r.vn_ms - 1.6).abs() < 1e-12);
+        (b, v, w, r)
+    }
+
+    #[test]
+    fn velocity_ratio_rebound_by_hand() {
+        let law = TangentialLaw::VelocityRatio;
+        // rolling already: v_t⁺ = 0.8 v_t⁻
+        let (.., r) = ball_rebound(law, 1.0);
+        assert!((r.vt_ms - 4.0).abs() < 1e-12, "{}", r.vt_ms);
         // no spin: brought to rolling, 5/7 of v_t, then r_t
-        let r = rebound(
-            &b,
-            v,
-            V3::ZERO,
-            V3::UP,
-            &cell(0.4, 0.125),
-            &LumpedSettings::deterministic(),
-            &mut rng,
-        );
+        let (.., r) = ball_rebound(law, 0.0);
         assert!((r.vt_ms - 0.8 * 5.0 / 7.0 * 5.0).abs() < 1e-12);
         // strong backspin turns the rock back
-        let r = rebound(
-            &b,
-            v,
-            -w * 4.0,
-            V3::UP,
-            &cell(0.4, 0.0),
-            &LumpedSettings::deterministic(),
-            &mut rng,
-        );
+        let (.., r) = ball_rebound(law, -4.0);
         assert!(r.vt_ms < 0.0);
+    }
+
+    #[test]
+    fn pfeiffer_bowen_rebound_by_hand() {
+        let law = TangentialLaw::PfeifferBowen;
+        // rolling already: v_t⁺ = √0.8 v_t⁻
+        let (.., r) = ball_rebound(law, 1.0);
+        assert!((r.vt_ms - 0.8f64.sqrt() * 5.0).abs() < 1e-12, "{}", r.vt_ms);
+        // no spin: √(r_t · 5/7) v_t⁻
+        let (.., r) = ball_rebound(law, 0.0);
+        assert!((r.vt_ms - (0.8 * 5.0 / 7.0f64).sqrt() * 5.0).abs() < 1e-12);
+        // backspin counts as spin energy: √(0.8 (5/7 · 25 + 2/7 · 20²))
+        let (b, v, w, r) = ball_rebound(law, -4.0);
+        let expected = (0.8 * (5.0 / 7.0 * 25.0 + 2.0 / 7.0 * 400.0f64)).sqrt();
+        assert!((r.vt_ms - expected).abs() < 1e-12, "{}", r.vt_ms);
+        // the outgoing rolling energy is r_t times the incoming tangential and spin energy
+        let (v2, w2) = compose(r.normal, (1.0, 0.0), r.vt_ms, 0.0, b.radius_m);
+        let e_in = energy(&b, V3::new(v.x, v.y, 0.0), w);
+        assert!((energy(&b, v2, w2) - 0.8 * e_in).abs() < 1e-9 * e_in);
     }
 
     #[test]
@@ -267,25 +312,30 @@ mod tests {
     #[test]
     fn no_energy_gain_over_many_random_rebounds() {
         let mut rng = rockfall_rng::stream(3, rockfall_rng::Purpose::Sampling, &[]);
-        let s = LumpedSettings::default();
-        for shape in [
-            BlockShape::Spherical,
-            BlockShape::Disc,
-            BlockShape::Rectangular,
-        ] {
-            let b = RockBody::new(shape, [0.4, 0.9, 1.3], 2600.0).unwrap();
-            for _ in 0..20_000 {
-                let r = |rng: &mut Rng| 20.0 * (rng.random::<f64>() - 0.5);
-                let v = V3::new(r(&mut rng), r(&mut rng), -r(&mut rng).abs());
-                let w = V3::new(r(&mut rng), r(&mut rng), r(&mut rng));
-                let n = V3::new(r(&mut rng) * 0.1, r(&mut rng) * 0.1, 1.0)
-                    .unit()
-                    .unwrap();
-                let c = cell(rng.random(), rng.random::<f64>() * 0.5);
-                let reb = rebound(&b, v, w, n, &c, &s, &mut rng);
-                let dir = (rng.random::<f64>() * 6.3).sin_cos();
-                let (v2, w2) = compose(reb.normal, dir, reb.vt_ms, reb.vn_ms, b.radius_m);
-                assert!(energy(&b, v2, w2) <= energy(&b, v, w) * (1.0 + 1e-12));
+        for law in [TangentialLaw::PfeifferBowen, TangentialLaw::VelocityRatio] {
+            let s = LumpedSettings {
+                tangential: law,
+                ..LumpedSettings::default()
+            };
+            for shape in [
+                BlockShape::Spherical,
+                BlockShape::Disc,
+                BlockShape::Rectangular,
+            ] {
+                let b = RockBody::new(shape, [0.4, 0.9, 1.3], 2600.0).unwrap();
+                for _ in 0..20_000 {
+                    let r = |rng: &mut Rng| 20.0 * (rng.random::<f64>() - 0.5);
+                    let v = V3::new(r(&mut rng), r(&mut rng), -r(&mut rng).abs());
+                    let w = V3::new(r(&mut rng), r(&mut rng), r(&mut rng));
+                    let n = V3::new(r(&mut rng) * 0.1, r(&mut rng) * 0.1, 1.0)
+                        .unit()
+                        .unwrap();
+                    let c = cell(rng.random(), rng.random::<f64>() * 0.5);
+                    let reb = rebound(&b, v, w, n, &c, &s, &mut rng);
+                    let dir = (rng.random::<f64>() * 6.3).sin_cos();
+                    let (v2, w2) = compose(reb.normal, dir, reb.vt_ms, reb.vn_ms, b.radius_m);
+                    assert!(energy(&b, v2, w2) <= energy(&b, v, w) * (1.0 + 1e-12));
+                }
             }
         }
     }

@@ -339,10 +339,20 @@ impl Rock<'_, '_, '_> {
     }
 
     /// Puts the rock on the ground: velocity projected on the tangent plane, rolling spin.
+    /// The rolling state never holds more kinetic energy than the rock had: a rebound on the
+    /// flattened slope leaves it with some speed normal to that plane which, projected on the
+    /// true tangent plane, would otherwise turn into rolling speed and spin.
     fn start_rolling(&mut self, n: V3) {
         self.rolling = true;
+        let before_j = self.energy_j(self.v);
         self.v = self.v - n * self.v.dot(n);
         self.w = rolling_spin(self.v, n, self.body.radius_m);
+        let after_j = self.energy_j(self.v);
+        if after_j > before_j {
+            let scale = (before_j / after_j).sqrt();
+            self.v = self.v * scale;
+            self.w = self.w * scale;
+        }
     }
 
     /// One rolling step; `None` while the rock goes on.

@@ -18,6 +18,7 @@ use rockfall_raster::{Field, Grid};
 use rockfall_results::{Event, Layout, Results, RunInfo, TrajectoryRow};
 use rockfall_scenario::{
     BlockShape, ForestSpec, LumpedSettings, Release, ReleasePoint, RockSpec, Scenario,
+    TangentialLaw,
 };
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
 use std::sync::Arc;
@@ -93,6 +94,17 @@ fn close(a: f64, b: f64, tol: f64) -> bool {
 
 #[test]
 fn first_rebounds_on_flat_ground_match_the_hand_calculation() {
+    first_rebounds_by_hand(TangentialLaw::PfeifferBowen);
+}
+
+#[test]
+fn first_rebounds_by_hand_with_the_velocity_ratio_law() {
+    first_rebounds_by_hand(TangentialLaw::VelocityRatio);
+}
+
+/// Three rebounds and the roll to rest of a ball on flat ground, against the hand
+/// calculation of rebound.rs for `law`.
+fn first_rebounds_by_hand(law: TangentialLaw) {
     // flat ground, r_n = 0.5, MOH = 0.125 m on all classes → r_t = 1/(1 + 0.125/0.5) = 0.8
     let t = terrain((40, 40, 2.0), |_, _| 0.0, [0.125; 3], Some(0.5));
     let (x0, y0, h, vx0) = (20.3, 30.7, 5.0, 4.0);
@@ -101,19 +113,27 @@ fn first_rebounds_on_flat_ground_match_the_hand_calculation() {
         ..ReleasePoint::at_rest(x0, y0, h)
     };
     let mut s = scenario(t, vec![p], 1);
-    s.lumped = LumpedSettings::deterministic();
+    s.lumped = LumpedSettings {
+        tangential: law,
+        ..LumpedSettings::deterministic()
+    };
     let res = run(&s, None, 1);
     let rows = res.trajectories();
     let impacts: Vec<&TrajectoryRow> = rows.iter().filter(|r| r.event == Event::Impact).collect();
     assert!(impacts.len() >= 3, "{} impacts", impacts.len());
     let b = sphere();
-    let (r_n, r_t, k) = (0.5, 0.8, 5.0 / 7.0);
+    let (r_n, r_t, k): (f64, f64, f64) = (0.5, 0.8, 5.0 / 7.0);
+    // the tangential speed kept by a rebound: of a sliding rock without spin, of a rolling one
+    let (sliding, rolling) = match law {
+        TangentialLaw::PfeifferBowen => ((r_t * k).sqrt(), r_t.sqrt()),
+        TangentialLaw::VelocityRatio => (r_t * k, r_t),
+    };
     let vn_min = (2.0 * G_MS2 * 0.125).sqrt(); // speed needed to clear the obstacle, 1.566 m/s
 
     // 1st impact after a free fall of h: t1 = sqrt(2h/g), v⁻ = (4, 0, −g t1), no spin.
-    // The sliding rock is brought to rolling, v_t⁺ = r_t · 5/7 · v_t⁻; v_n⁺ = r_n |v_n⁻|.
+    // The sliding rock leaves rolling, v_t⁺ = `sliding` · v_t⁻; v_n⁺ = r_n |v_n⁻|.
     let t1 = (2.0 * h / G_MS2).sqrt();
-    let vt1 = r_t * k * vx0;
+    let vt1 = sliding * vx0;
     let vn1 = r_n * G_MS2 * t1;
     assert!(vn1 > vn_min);
     let i1 = impacts[0];
@@ -136,9 +156,9 @@ fn first_rebounds_on_flat_ground_match_the_hand_calculation() {
         1e-9
     ));
 
-    // 2nd impact after 2 v_n/g; already rolling, so v_t⁺ = r_t v_t⁻ exactly (seed 000 §3.2)
+    // 2nd impact after 2 v_n/g; already rolling, so v_t⁺ = `rolling` · v_t⁻ exactly
     let t2 = t1 + 2.0 * vn1 / G_MS2;
-    let (vt2, vn2) = (r_t * vt1, r_n * vn1);
+    let (vt2, vn2) = (rolling * vt1, r_n * vn1);
     assert!(vn2 > vn_min);
     let i2 = impacts[1];
     assert!(close(i2.t_s, t2, 1e-9), "t {} vs {t2}", i2.t_s);
@@ -147,9 +167,9 @@ fn first_rebounds_on_flat_ground_match_the_hand_calculation() {
     assert!(close(i2.wy_rads, vt2 / R, 1e-9));
 
     // 3rd impact: r_n v_n = 1.24 m/s cannot clear the 0.125 m obstacles and flat ground holds
-    // a rolling rock: it rolls on with v_t = r_t v_t⁻, no normal speed
+    // a rolling rock: it rolls on with v_t = `rolling` · v_t⁻, no normal speed
     let t3 = t2 + 2.0 * vn2 / G_MS2;
-    let vt3 = r_t * vt2;
+    let vt3 = rolling * vt2;
     assert!(r_n * vn2 < vn_min);
     let i3 = impacts[2];
     assert!(close(i3.t_s, t3, 1e-9), "t {} vs {t3}", i3.t_s);

@@ -23,7 +23,7 @@ mod validate;
 pub use error::ScenarioError;
 pub use params::{
     ContactParams, ContactSettings, Engine, LumpedSettings, MohMode, OutputSettings, RigidParams,
-    SimulationSettings, Slippage,
+    SimulationSettings, Slippage, TangentialLaw,
 };
 pub use release::{Release, ReleasePoint};
 pub use rock::{BlockShape, RockShape, RockSpec};

@@ -58,11 +58,49 @@ impl FromStr for MohMode {
     }
 }
 
+/// How a ground rebound sets the outgoing tangential speed from r_t (seed 000 §2.5: "modified
+/// from Pfeiffer and Bowen (1989), as presented in Dorren et al. (2004)").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TangentialLaw {
+    /// Pfeiffer & Bowen 1989 (CRSP) with r_t in place of their friction and scaling factors:
+    /// r_t scales the tangential and rotational *energy*, `v_t⁺ = √(r_t (k v_t² + (1−k) R² ω²))`
+    /// (default; the law RockyFor computes with).
+    #[default]
+    PfeifferBowen,
+    /// r_t as the ratio of tangential *velocities* that seed 000 §3.2 measured on its films:
+    /// `v_t⁺ = r_t (k v_t + (1−k) R ω)`.
+    VelocityRatio,
+}
+
+impl TangentialLaw {
+    /// The name used in scenario files: `pfeiffer-bowen` or `velocity-ratio`.
+    pub fn name(self) -> &'static str {
+        match self {
+            TangentialLaw::PfeifferBowen => "pfeiffer-bowen",
+            TangentialLaw::VelocityRatio => "velocity-ratio",
+        }
+    }
+}
+
+impl FromStr for TangentialLaw {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        [TangentialLaw::PfeifferBowen, TangentialLaw::VelocityRatio]
+            .into_iter()
+            .find(|l| l.name().eq_ignore_ascii_case(s))
+            .ok_or_else(|| {
+                format!("unknown tangential law `{s}` (expected pfeiffer-bowen or velocity-ratio)")
+            })
+    }
+}
+
 /// Settings of the lumped engine (seed 000 §2.3–2.5).
 #[derive(Debug, Clone, PartialEq)]
 pub struct LumpedSettings {
     /// MOH per rebound: drawn from the cover classes (default) or their weighted mean.
     pub moh: MohMode,
+    /// How r_t sets the outgoing tangential speed (default Pfeiffer & Bowen).
+    pub tangential: TangentialLaw,
     /// Relative uniform variation of r_t at each rebound (seed 000 §2.5: ±10 % → 0.1).
     pub rt_variation: f64,
     /// Largest random reduction of the local slope angle at a rebound, degrees
@@ -79,6 +117,7 @@ impl Default for LumpedSettings {
     fn default() -> Self {
         LumpedSettings {
             moh: MohMode::Draw,
+            tangential: TangentialLaw::PfeifferBowen,
             rt_variation: 0.1,
             slope_reduction_max_deg: 4.0,
             max_lateral_deviation_deg: 45.0,
