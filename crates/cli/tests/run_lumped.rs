@@ -267,3 +267,100 @@ fn fixed_seed_reproduces_the_run() {
     let d = run(&input, &tmp.path().join("d"), &["--rocks-per-cell", "300"]);
     assert_ne!(a["runout_m"], d["runout_m"]);
 }
+
+#[test]
+fn rocks_csv_holds_one_row_per_rock_agreeing_with_the_summary() {
+    const N: usize = 200;
+    let (tmp, dir) = site();
+    let input = dir.join("scenario.toml");
+    let flags = ["--rocks-per-cell", "200", "--threads", "2"];
+    // without `rocks_csv`: no rocks.csv
+    let plain = tmp.path().join("plain");
+    run(&input, &plain, &flags);
+    assert!(plain.join("summary.json").is_file());
+    assert!(!plain.join("rocks.csv").exists());
+
+    let text = std::fs::read_to_string(&input).unwrap();
+    assert!(text.contains("\nrocks_csv = false\n"), "{text}");
+    std::fs::write(
+        &input,
+        text.replace("\nrocks_csv = false\n", "\nrocks_csv = true\n"),
+    )
+    .unwrap();
+    let out = tmp.path().join("out");
+    let sum = run(&input, &out, &flags);
+    assert_eq!(sum["rocks"], N as u64);
+    let csv = std::fs::read_to_string(out.join("rocks.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some(rockfall_results::ROCKS_HEADER));
+    let column = |name: &str| {
+        (rockfall_results::ROCKS_HEADER.split(','))
+            .position(|c| c == name)
+            .unwrap()
+    };
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), N);
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row.len(), 15, "{row:?}");
+        assert_eq!(
+            row[column("rock_id")],
+            i.to_string(),
+            "rock ids 0..N in order"
+        );
+        let outcome = row[column("outcome")];
+        assert!(
+            ["stopped", "net_stopped", "left_dem", "time_limit", "failed"].contains(&outcome),
+            "{row:?}"
+        );
+        for (j, c) in row.iter().enumerate() {
+            if j != column("outcome") {
+                assert!(c.parse::<f64>().is_ok_and(f64::is_finite), "{row:?}");
+            }
+        }
+    }
+    let values = |name: &str| -> Vec<f64> {
+        let j = column(name);
+        rows.iter().map(|r| r[j].parse::<f64>().unwrap()).collect()
+    };
+    let close = |a: f64, b: f64, what: &str| {
+        assert!(
+            (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-300),
+            "{what}: {a} (rocks.csv) vs {b} (summary.json)"
+        );
+    };
+    // max_velocity_ms.mean: summary.json averages the speeds quantised to µm/s (an exact,
+    // order-independent fixed-point sum); the same quantisation of the column gives it to
+    // 1e-9, the plain f64 mean is within the quantisation step.
+    let speeds = values("max_velocity_ms");
+    let mean_summary = number(&sum["max_velocity_ms"]["mean"], "max_velocity_ms.mean");
+    let fixed: u128 = speeds.iter().map(|v| (v * 1e6).round() as u128).sum();
+    close(
+        fixed as f64 / N as f64 / 1e6,
+        mean_summary,
+        "max_velocity_ms mean",
+    );
+    let mean = speeds.iter().sum::<f64>() / N as f64;
+    assert!(
+        (mean - mean_summary).abs() <= 1e-6,
+        "{mean} vs {mean_summary}"
+    );
+    let impacts: f64 = values("tree_impacts").iter().sum();
+    close(
+        impacts / N as f64,
+        number(&sum["tree_impacts_per_rock"], "tree_impacts_per_rock"),
+        "tree_impacts_per_rock",
+    );
+    assert!(impacts > 0.0);
+    let count = |o: &str| rows.iter().filter(|r| r[column("outcome")] == o).count();
+    let stopped = count("stopped");
+    assert!(stopped > 0);
+    let fraction = |k: &str| number(&sum[k], k);
+    close(
+        stopped as f64 / N as f64,
+        fraction("stopped_fraction") - fraction("net_stopped_fraction"),
+        "stopped fraction",
+    );
+    for (name, n) in sum["outcomes"].as_object().unwrap() {
+        assert_eq!(count(name) as u64, n.as_u64().unwrap(), "outcome {name}");
+    }
+}

@@ -415,6 +415,7 @@ fn output(o: Option<schema::OutputSec>) -> OutputSettings {
         trajectories: o.trajectories.unwrap_or(d.trajectories),
         trajectory_interval_s: o.trajectory_interval_s.unwrap_or(d.trajectory_interval_s),
         ascii_rasters: o.ascii_rasters.unwrap_or(d.ascii_rasters),
+        rocks_csv: o.rocks_csv.unwrap_or(d.rocks_csv),
         percentiles: o.percentiles.unwrap_or(d.percentiles),
     }
 }

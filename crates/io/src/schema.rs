@@ -177,5 +177,6 @@ pub struct OutputSec {
     pub trajectories: Option<u64>,
     pub trajectory_interval_s: Option<f64>,
     pub ascii_rasters: Option<bool>,
+    pub rocks_csv: Option<bool>,
     pub percentiles: Option<Vec<f64>>,
 }

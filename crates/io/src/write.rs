@@ -329,10 +329,11 @@ fn settings_toml(s: &Scenario, t: &mut String) {
     let _ = write!(
         t,
         "\n[output]\ntrajectories = {}\ntrajectory_interval_s = {}\nascii_rasters = {}\n\
-         percentiles = {}\n",
+         rocks_csv = {}\npercentiles = {}\n",
         o.trajectories,
         num(o.trajectory_interval_s),
         o.ascii_rasters,
+        o.rocks_csv,
         arr(&o.percentiles)
     );
 }

@@ -267,6 +267,40 @@ fn trajectory_interval_parses_round_trips_and_is_checked() {
 }
 
 #[test]
+fn rocks_csv_parses_and_round_trips() {
+    assert!(!loads(MINIMAL).output.rocks_csv, "default: no rocks.csv");
+    let text = edit(
+        MINIMAL,
+        "trajectories = 1",
+        "trajectories = 1\nrocks_csv = true",
+    );
+    assert!(loads(&text).output.rocks_csv);
+    assert!(
+        !loads(&edit(&text, "rocks_csv = true", "rocks_csv = false"))
+            .output
+            .rocks_csv
+    );
+    fails(
+        &edit(&text, "rocks_csv = true", "rocks_csv = 1"),
+        &["rocks_csv"],
+    );
+    for value in [true, false] {
+        let dir = tempfile::tempdir().unwrap();
+        let mut site = rockfall_sites::build("vaujany-site2").unwrap();
+        site.output.rocks_csv = value;
+        rockfall_io::write::write_scenario_dir(&site, dir.path()).unwrap();
+        let written = std::fs::read_to_string(dir.path().join("scenario.toml")).unwrap();
+        assert!(
+            written.contains(&format!("\nrocks_csv = {value}\n")),
+            "{written}"
+        );
+        let back = load(&dir.path().join("scenario.toml")).unwrap();
+        assert_eq!(back.output.rocks_csv, value);
+        assert_eq!(back.output, site.output);
+    }
+}
+
+#[test]
 fn unknown_keys_are_errors_naming_key_and_line() {
     let cases = [
         ("seed = 1", "colour = 1", "colour"),

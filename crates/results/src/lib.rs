@@ -8,7 +8,8 @@
 //! hence whatever the thread count.
 //!
 //! [`Results::new`] turns the merged tally into rasters (named as Rockyfor3D users know them),
-//! `summary.json` and `trajectories.csv`; [`Results::write`] writes them atomically.
+//! `summary.json`, `trajectories.csv` and, on request ([`Layout::rock_ends`]), `rocks.csv`
+//! (one [`RockRecord`] per rock); [`Results::write`] writes them atomically.
 //! [`ForestEffect`] compares a run with the forest to the same run without it.
 //! [`ScreenSet`] finds where a rock's plan-view path crosses the evaluation screens.
 //!
@@ -34,7 +35,8 @@
 //! heap block) and 4 bytes per distinct source cell that reached it: ≈ 2.2–2.4 kB per
 //! visited cell, whatever the number of rocks. Per-screen and per-rock statistics are a few
 //! kB in all. Only the recorded trajectories (rocks with `rock_id < Layout::trajectories`)
-//! grow with the number of rocks.
+//! and, when [`Layout::rock_ends`] is set, the per-rock records (one [`RockRecord`], 120
+//! bytes, per rock) grow with the number of rocks.
 
 mod cells;
 mod forest_effect;
@@ -52,7 +54,7 @@ pub use parallel::{PoolError, RockNumbering, RunOptions, run_rocks};
 pub use results::{Results, RunInfo};
 pub use screens::ScreenSet;
 pub use tally::Tally;
-pub use write::{ResultsError, TRAJECTORY_HEADER, write_json};
+pub use write::{ROCKS_HEADER, ResultsError, TRAJECTORY_HEADER, write_json};
 
 use rockfall_raster::{Crs, GridGeometry};
 use rockfall_scenario::{Scenario, Screen};
@@ -71,11 +73,15 @@ pub struct Layout {
     pub percentiles: Vec<f64>,
     /// Rocks with `rock_id < trajectories` have their trajectory recorded.
     pub trajectories: u64,
+    /// Keep one [`RockRecord`] per rock (start, outcome, maxima) and write `rocks.csv`.
+    /// Memory then grows with the number of rocks: one record (120 bytes) per rock.
+    pub rock_ends: bool,
 }
 
 impl Layout {
     /// The layout of a run of `scenario`: the DEM's grid and CRS, its screens, energy
-    /// percentiles and number of recorded trajectories.
+    /// percentiles, number of recorded trajectories and whether per-rock records are kept
+    /// (`[output] rocks_csv`).
     pub fn of(scenario: &Scenario) -> Layout {
         let dem = &scenario.terrain.dem;
         Layout {
@@ -84,6 +90,7 @@ impl Layout {
             screens: scenario.screens.clone(),
             percentiles: scenario.output.percentiles.clone(),
             trajectories: scenario.output.trajectories,
+            rock_ends: scenario.output.rocks_csv,
         }
     }
 }
@@ -146,6 +153,14 @@ pub enum Outcome {
     Failed,
 }
 
+impl Outcome {
+    /// Stable lowercase name, as in `rocks.csv` and the `outcomes` object of
+    /// `summary.json`: `stopped`, `net_stopped`, `left_dem`, `time_limit` or `failed`.
+    pub fn name(&self) -> &'static str {
+        tally::OUTCOME_NAMES[tally::outcome_index(self)]
+    }
+}
+
 /// A rock's run is over.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RockEnd {
@@ -169,6 +184,20 @@ pub struct RockEnd {
     pub rebounds: u32,
     /// Simulated time, s.
     pub time_s: f64,
+}
+
+/// One rock's run: where it started and how it ended (kept when `Layout::rock_ends`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RockRecord {
+    /// Global rock number, 0-based, in release order (as [`RockStart::rock_id`]).
+    pub rock_id: u64,
+    /// Row-major index of the cell the rock was released from.
+    pub source_cell: usize,
+    /// Release position of the rock centre (x, y, z), m.
+    pub start_m: [f64; 3],
+    /// How and where the run ended: outcome, end position (m), runout (m), maximum speed
+    /// (m/s) and jump height (m), tree impacts, stems broken, rebounds, simulated time (s).
+    pub end: RockEnd,
 }
 
 /// What a trajectory row records (`trajectories.csv` column `event`).

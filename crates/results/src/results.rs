@@ -3,7 +3,7 @@
 use rockfall_raster::{Grid, SampleType};
 
 use crate::cells::CellStats;
-use crate::{Layout, Tally, TrajectoryRow};
+use crate::{Layout, RockRecord, Tally, TrajectoryRow};
 
 /// Nodata marker written into the float rasters.
 pub(crate) const NODATA: f64 = -9999.0;
@@ -57,7 +57,7 @@ impl Kind {
 }
 
 /// The result of a run: the merged tally turned into rasters (named as Rockyfor3D users know
-/// them), `summary.json` and `trajectories.csv`.
+/// them), `summary.json`, `trajectories.csv` and, when [`Layout::rock_ends`], `rocks.csv`.
 ///
 /// Everything but `threads`, `wall_time_s` and `trajectories_per_s` of the summary is a pure
 /// function of the merged tally, hence identical whatever the thread count.
@@ -67,6 +67,8 @@ pub struct Results {
     pub(crate) tally: Tally,
     pub(crate) info: RunInfo,
     pub(crate) rows: Vec<TrajectoryRow>,
+    /// One record per rock, sorted by rock id (empty unless `layout.rock_ends`).
+    pub(crate) rock_records: Vec<RockRecord>,
 }
 
 /// `E_<p>` raster name: `E_95` for 95, `E_99.5` for 99.5.
@@ -76,15 +78,19 @@ pub(crate) fn percentile_name(prefix: &str, p: f64) -> String {
 
 impl Results {
     /// The results of a run on `layout` whose merged tally is `tally`. Trajectory rows are
-    /// sorted by rock id, then in the order they were recorded.
+    /// sorted by rock id, then in the order they were recorded; rock records by rock id, so
+    /// neither depends on the thread count or the merge order.
     pub fn new(layout: &Layout, mut tally: Tally, info: RunInfo) -> Results {
         let mut rows = std::mem::take(&mut tally.rows);
         rows.sort_by_key(|&(rock, seq, _)| (rock, seq));
+        let mut rock_records = std::mem::take(&mut tally.rock_records);
+        rock_records.sort_by_key(|r| r.rock_id);
         Results {
             layout: layout.clone(),
             tally,
             info,
             rows: rows.into_iter().map(|(_, _, r)| r).collect(),
+            rock_records,
         }
     }
 
@@ -101,6 +107,12 @@ impl Results {
     /// The recorded trajectory rows, sorted by rock id, then time of recording.
     pub fn trajectories(&self) -> &[TrajectoryRow] {
         &self.rows
+    }
+
+    /// One record per rock (release cell and position, outcome, end position, maxima), sorted
+    /// by rock id; empty unless the layout kept them ([`Layout::rock_ends`]).
+    pub fn rock_records(&self) -> &[RockRecord] {
+        &self.rock_records
     }
 
     /// The energy percentiles written as `E_<p>` rasters: the layout's valid ones (0 ..= 100)

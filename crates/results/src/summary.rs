@@ -4,6 +4,7 @@ use serde_json::{Map, Value, json};
 
 use crate::Results;
 use crate::hist::Stat;
+use crate::tally::OUTCOME_NAMES;
 
 /// A number, or `null` when undefined (no values, non-finite).
 pub(crate) fn num(v: Option<f64>) -> Value {
@@ -82,16 +83,10 @@ impl Results {
         put("left_dem_fraction", fraction(left, rocks));
         put("time_limit_fraction", fraction(time_limit, rocks));
         put("failed_fraction", fraction(failed, rocks));
-        put(
-            "outcomes",
-            json!({
-                "stopped": stopped,
-                "net_stopped": net,
-                "left_dem": left,
-                "time_limit": time_limit,
-                "failed": failed,
-            }),
-        );
+        let outcomes = (OUTCOME_NAMES.iter().zip(r.outcomes))
+            .map(|(name, n)| (name.to_string(), json!(n)))
+            .collect();
+        put("outcomes", Value::Object(outcomes));
         put(
             "runout_m",
             json!({

@@ -5,7 +5,9 @@ use std::sync::Arc;
 use crate::cells::CellTable;
 use crate::hist::{LENGTH_SCALE, LONG_AXIS, SHORT_AXIS, Stat};
 use crate::screens::ScreenStats;
-use crate::{CellVisit, Layout, Outcome, RockEnd, RockStart, ScreenCrossing, TrajectoryRow};
+use crate::{
+    CellVisit, Layout, Outcome, RockEnd, RockRecord, RockStart, ScreenCrossing, TrajectoryRow,
+};
 
 /// The rock being simulated.
 #[derive(Debug, Clone, Copy)]
@@ -17,6 +19,8 @@ struct Current {
     records: bool,
     /// Rows recorded for this rock so far.
     seq: u64,
+    /// Where it started (for its [`RockRecord`]).
+    start: RockStart,
 }
 
 /// Per-rock statistics (over ended rocks).
@@ -40,7 +44,11 @@ pub(crate) struct RockStats {
     pub(crate) rebounds: u64,
 }
 
-/// Index of an outcome in [`RockStats::outcomes`].
+/// Names of the outcomes, in the order of [`RockStats::outcomes`] (see [`Outcome::name`]).
+pub(crate) const OUTCOME_NAMES: [&str; 5] =
+    ["stopped", "net_stopped", "left_dem", "time_limit", "failed"];
+
+/// Index of an outcome in [`RockStats::outcomes`] and [`OUTCOME_NAMES`].
 pub(crate) fn outcome_index(o: &Outcome) -> usize {
     match o {
         Outcome::Stopped { .. } => 0,
@@ -85,7 +93,8 @@ impl RockStats {
 }
 
 /// What one worker thread accumulates: bounded-memory statistics of the rocks it simulated
-/// (per cell, per screen, per rock) and the recorded trajectory rows.
+/// (per cell, per screen, per rock), the recorded trajectory rows and, when
+/// [`Layout::rock_ends`], one [`RockRecord`] per rock.
 ///
 /// Use: for each rock, [`Tally::begin_rock`], then any number of [`Tally::cell_visit`],
 /// [`Tally::tree_impact`], [`Tally::screen_crossing`] and [`Tally::record`], then
@@ -96,7 +105,7 @@ impl RockStats {
 ///
 /// Memory: 4 bytes per grid cell, plus per touched cell the statistics described in the
 /// crate documentation (≈ 2.2–2.4 kB per visited cell), plus the recorded rows; nothing per
-/// rock.
+/// rock unless [`Layout::rock_ends`], which keeps one [`RockRecord`] per rock.
 #[derive(Debug, Clone)]
 pub struct Tally {
     layout: Arc<Layout>,
@@ -106,6 +115,8 @@ pub struct Tally {
     pub(crate) rock: RockStats,
     /// (rock id, sequence number within the rock, row) of recorded rocks.
     pub(crate) rows: Vec<(u64, u64, TrajectoryRow)>,
+    /// One record per ended rock, in the order they ended (only when `layout.rock_ends`).
+    pub(crate) rock_records: Vec<RockRecord>,
 }
 
 impl Tally {
@@ -119,6 +130,7 @@ impl Tally {
             rock: RockStats::new(),
             current: None,
             rows: Vec::new(),
+            rock_records: Vec::new(),
             layout,
         }
     }
@@ -137,6 +149,7 @@ impl Tally {
             source: u32::try_from(start.source_cell).unwrap_or(u32::MAX),
             records: start.rock_id < self.layout.trajectories,
             seq: 0,
+            start,
         });
     }
 
@@ -186,10 +199,21 @@ impl Tally {
         }
     }
 
-    /// The current rock's run is over.
+    /// The current rock's run is over. With [`Layout::rock_ends`], its [`RockRecord`] is
+    /// kept (release position from [`Tally::begin_rock`], `end` as given).
     pub fn end_rock(&mut self, end: RockEnd) {
         debug_assert!(self.current.is_some(), "end_rock without begin_rock");
-        self.current = None;
+        if let Some(c) = self.current.take()
+            && self.layout.rock_ends
+        {
+            let s = c.start;
+            self.rock_records.push(RockRecord {
+                rock_id: s.rock_id,
+                source_cell: s.source_cell,
+                start_m: [s.x_m, s.y_m, s.z_m],
+                end,
+            });
+        }
         if let Outcome::Stopped { cell } | Outcome::NetStopped { cell } = end.outcome {
             self.cells.deposit(cell);
         }
@@ -213,6 +237,7 @@ impl Tally {
         }
         self.rock.merge(&other.rock);
         self.rows.extend(other.rows);
+        self.rock_records.extend(other.rock_records);
     }
 
     /// Rocks ended so far.

@@ -5,11 +5,15 @@ use std::path::{Path, PathBuf};
 
 use rockfall_raster::{Grid, RasterError, SampleType, atomic, write_grid};
 
-use crate::{Event, Results, TrajectoryRow};
+use crate::{Event, Results, RockRecord, TrajectoryRow};
 
 /// Header of `trajectories.csv` (a contract, see `product.md`).
 pub const TRAJECTORY_HEADER: &str =
     "rock_id,t_s,x_m,y_m,z_m,vx_ms,vy_ms,vz_ms,wx_rads,wy_rads,wz_rads,e_trans_j,e_rot_j,event";
+
+/// Header of `rocks.csv`: one row per rock, written when [`crate::Layout::rock_ends`].
+pub const ROCKS_HEADER: &str = "rock_id,source_cell,x0_m,y0_m,z0_m,outcome,x_m,y_m,runout_m,\
+max_velocity_ms,max_jump_height_m,tree_impacts,stems_broken,rebounds,time_s";
 
 /// What can go wrong writing results. Every variant names the file or folder.
 #[derive(Debug, thiserror::Error)]
@@ -128,12 +132,50 @@ pub(crate) fn write_trajectories(path: &Path, rows: &[TrajectoryRow]) -> Result<
     })
 }
 
+/// Writes `rocks.csv`: the header, then one line per record; numbers in the shortest form
+/// that reads back to the same `f64`, the outcome by [`crate::Outcome::name`].
+pub(crate) fn write_rocks(path: &Path, records: &[RockRecord]) -> Result<(), ResultsError> {
+    atomic::write_atomic(path, |w| {
+        let io = |e| ResultsError::Io {
+            path: path.to_path_buf(),
+            source: e,
+        };
+        writeln!(w, "{ROCKS_HEADER}").map_err(io)?;
+        for r in records {
+            let [x0, y0, z0] = r.start_m;
+            let e = &r.end;
+            writeln!(
+                w,
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                r.rock_id,
+                r.source_cell,
+                x0,
+                y0,
+                z0,
+                e.outcome.name(),
+                e.x_m,
+                e.y_m,
+                e.runout_m,
+                e.max_velocity_ms,
+                e.max_jump_height_m,
+                e.tree_impacts,
+                e.stems_broken,
+                e.rebounds,
+                e.time_s
+            )
+            .map_err(io)?;
+        }
+        Ok(())
+    })
+}
+
 impl Results {
     /// Writes every raster as `<name>.tif` (GeoTIFF with the layout's CRS; counts as 32-bit
     /// integers, others as 32-bit floats with nodata −9999) and, when `ascii`, also
     /// `<name>.asc` (+ `.prj` when the CRS is known), plus `summary.json` and
-    /// `trajectories.csv` (header only when no trajectory was recorded), into `out_dir`
-    /// (created when missing). Every file is written atomically: a temporary name, then a
+    /// `trajectories.csv` (header only when no trajectory was recorded) and, when the layout
+    /// kept per-rock records ([`crate::Layout::rock_ends`]), `rocks.csv` (one row per rock,
+    /// by rock id, columns [`ROCKS_HEADER`]), into `out_dir` (created when missing). Every file is written atomically: a temporary name, then a
     /// rename over any earlier file. Returns the paths written.
     pub fn write(&self, out_dir: &Path, ascii: bool) -> Result<Vec<PathBuf>, ResultsError> {
         create_dir(out_dir)?;
@@ -149,6 +191,11 @@ impl Results {
         let csv = out_dir.join("trajectories.csv");
         write_trajectories(&csv, &self.rows)?;
         written.push(csv);
+        if self.layout.rock_ends {
+            let rocks = out_dir.join("rocks.csv");
+            write_rocks(&rocks, &self.rock_records)?;
+            written.push(rocks);
+        }
         Ok(written)
     }
 }

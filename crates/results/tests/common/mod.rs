@@ -33,6 +33,7 @@ pub fn layout() -> Arc<Layout> {
         ],
         percentiles: vec![50.0, 99.5, 95.0],
         trajectories: 7,
+        rock_ends: false,
     })
 }
 
