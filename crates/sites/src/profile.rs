@@ -70,6 +70,29 @@ impl Profile {
         }
         d
     }
+
+    /// Distance along the ground from horizontal distance `from_m` to `to_m` (negative when
+    /// `to_m` lies above `from_m`), m: `Σ Δd / cos(slope)` section by section, the last
+    /// section continuing; the inverse of [`Profile::horizontal_at_slope_distance`]. Nothing
+    /// is counted above the top edge (d < 0).
+    pub fn slope_distance_m(&self, from_m: f64, to_m: f64) -> f64 {
+        let (lo, hi) = (from_m.min(to_m), from_m.max(to_m));
+        let mut start = 0.0;
+        let mut total = 0.0;
+        for (k, s) in self.sections.iter().enumerate() {
+            let end = if k + 1 == self.sections.len() {
+                f64::INFINITY
+            } else {
+                start + s.length_m
+            };
+            let run = hi.min(end) - lo.max(start);
+            if run > 0.0 {
+                total += run / s.slope_deg.to_radians().cos();
+            }
+            start = end;
+        }
+        if to_m < from_m { -total } else { total }
+    }
 }
 
 /// A shallow gully across the fall line: `z += w·ln(cosh((x − x_c)/w))·tan θ`, whose lateral
@@ -139,6 +162,15 @@ mod tests {
         assert!((d - 13.0).abs() < 1e-9, "{d}");
         let d = p.horizontal_at_slope_distance(0.0, 2f64.sqrt());
         assert!((d - 1.0).abs() < 1e-9, "{d}");
+        // and back: ground distances between horizontal positions
+        let sd = p.slope_distance_m(0.0, 13.0);
+        assert!((sd - (10.0 * 2f64.sqrt() + 3.0)).abs() < 1e-9, "{sd}");
+        assert!((p.slope_distance_m(13.0, 0.0) + sd).abs() < 1e-12);
+        assert!((p.slope_distance_m(5.0, 30.0) - (5.0 * 2f64.sqrt() + 20.0)).abs() < 1e-9);
+        for along in [0.5, 7.0, 14.0, 25.0] {
+            let d = p.horizontal_at_slope_distance(2.0, along);
+            assert!((p.slope_distance_m(2.0, d) - along).abs() < 1e-9);
+        }
     }
 
     #[test]

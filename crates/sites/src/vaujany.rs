@@ -10,7 +10,7 @@
 //! What the paper does not give, and how it is chosen here (none of it tuned to tables 2–3):
 //! - **Profile**: 11.25 m at 20° above the start (the launch area), 38° for 223.5 m of ground
 //!   down to the lower forest road, the road 5 m wide at 3°, 38° for 60 m of ground below it,
-//!   then a run-out of 30 m at 25° and 40 m at 10° (horizontal lengths). The road's position
+//!   then a run-out of 30 m at 25° and 80 m at 5° (horizontal lengths). The road's position
 //!   follows from the paper: the shares stopped before 223.5 m, stopped on the road and passed
 //!   it add up to 100 % on site 2 (66 + 13 + 21, §3.1 and §4), so the road begins at 223.5 m.
 //! - **Cross profile**: a shallow gully (lateral slope growing to 8°, width scale 25 m) keeps
@@ -62,7 +62,7 @@ pub const SCREENS_ALONG_M: [f64; 2] = [185.0, 235.0];
 pub const UNFORESTED_TOP_ALONG_M: f64 = 40.0;
 
 const NCOLS: usize = 60;
-const NROWS: usize = 124;
+const NROWS: usize = 142;
 const X_MIN_M: f64 = 939_350.0; // Lambert-93 near lat 45°12′, long 6°3′
 const Y_MAX_M: f64 = 6_460_400.0;
 /// Horizontal distance of the start below the DEM's top edge (centre of row 4), m.
@@ -78,13 +78,23 @@ pub enum Site {
     Two,
 }
 
-fn geometry() -> GridGeometry {
+fn geometry(nrows: usize) -> GridGeometry {
     GridGeometry {
         ncols: NCOLS,
-        nrows: NROWS,
+        nrows,
         x_min_m: X_MIN_M,
-        y_min_m: Y_MAX_M - NROWS as f64 * CELL_M,
+        y_min_m: Y_MAX_M - nrows as f64 * CELL_M,
         cell_size_m: CELL_M,
+    }
+}
+
+/// How far down the experiments observed each site, ground distance from the start, m:
+/// site 1 5 m past its second evaluation screen (235 m, table 3); site 2 to the lower edge of
+/// the forest road "that limits the foot of Site 2" (§4).
+pub fn observed_extent_along_m(site: Site) -> f64 {
+    match site {
+        Site::One => SCREENS_ALONG_M[1] + 5.0,
+        Site::Two => ROAD_START_ALONG_M + ROAD_WIDTH_M / 3f64.to_radians().cos(),
     }
 }
 
@@ -115,8 +125,8 @@ pub fn profile() -> Profile {
                 slope_deg: 25.0,
             },
             Section {
-                length_m: 40.0,
-                slope_deg: 10.0,
+                length_m: 80.0,
+                slope_deg: 5.0,
             },
         ],
     }
@@ -127,9 +137,102 @@ pub fn d_at_along(along_m: f64) -> f64 {
     profile().horizontal_at_slope_distance(START_D_M, along_m)
 }
 
-/// Builds site 1 or site 2 as a scenario.
+/// Distance along the ground from the start to the point of northing `y_m` on the fall line
+/// (negative above the start), m: how seed 000 measures its 185 m and 235 m screens and its
+/// 223.5 m.
+pub fn along_at_y(y_m: f64) -> f64 {
+    profile().slope_distance_m(START_D_M, Y_MAX_M - y_m)
+}
+
+/// One parameter of the reconstructed sites: what it is set to and where that comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Assumption {
+    /// The parameter.
+    pub parameter: &'static str,
+    /// Its value on the built-in sites.
+    pub value: &'static str,
+    /// Its source: the paper's section, or why it was chosen where the paper is silent.
+    pub source: &'static str,
+}
+
+/// How `vaujany-site1` and `vaujany-site2` are rebuilt, parameter by parameter (none of it
+/// tuned to seed 000's tables 2–3).
+pub const RECONSTRUCTION: &[Assumption] = &[
+    Assumption {
+        parameter: "Location, DEM",
+        value: "Lambert-93 (EPSG:2154) near lat 45°12′ N, long 6°3′ E; 2.5 m cells, 60 × 142 (150 m × 355 m)",
+        source: "seed 000 §2.1 (location, 2.5 m DEM); the extent holds the slope and its run-out",
+    },
+    Assumption {
+        parameter: "Slope",
+        value: "38° from the start down to the lower forest road (223.5 m of ground), 38° for 60 m of ground below the road, then 30 m at 25° and 80 m at 5° (horizontal)",
+        source: "seed 000 §2.1: mean gradient 38°; the run-out below the road is ours, so that rocks passing the road can stop inside the DEM",
+    },
+    Assumption {
+        parameter: "Launch area",
+        value: "11.25 m (horizontal) at 20° above the start",
+        source: "ours: the platform a caterpillar threw the rocks from (seed 000 §2.1)",
+    },
+    Assumption {
+        parameter: "Lower forest road",
+        value: "starts 223.5 m along the slope from the start; 5 m wide, 3°",
+        source: "seed 000 §3.1 and §4: on site 2 the shares stopped within 223.5 m (66 %), stopped on the road (13 %) and passing it (21 %) add up to 100 %, so the road begins there; its width is a typical forest road's (ours)",
+    },
+    Assumption {
+        parameter: "Cross profile",
+        value: "a shallow gully: lateral slope growing to 8°, width scale 25 m",
+        source: "ours: keeps the fall line on the corridor the cameras covered; site 1 is an avalanche track (seed 000 §2.1)",
+    },
+    Assumption {
+        parameter: "Soil type (r_n)",
+        value: "site 1 class 2 (r_n 0.25–0.31); site 2 class 4 (0.34–0.42); road class 3",
+        source: "seed 000 table 4: mean measured r_n 0.26 (site 1) and 0.36 (site 2), each the Rockyfor3D class whose range holds it and whose mean is closest",
+    },
+    Assumption {
+        parameter: "Obstacle heights rg70 / rg20 / rg10",
+        value: "site 1 0.17 / 0.25 / 0.35 m; site 2 0.10 / 0.20 / 0.32 m; road 0 / 0.02 / 0.05 m",
+        source: "seed 000 table 4: mean measured r_t 0.70 (site 1) and 0.77 (site 2) through eq. 3 with R = 0.475 m give MOH 0.204 m and 0.142 m, spread over the cover classes with eq. 4 (site 1 'relatively uniform', §2.5); road: §4, 'the MOH is very low'",
+    },
+    Assumption {
+        parameter: "Rock",
+        value: "sphere of 0.95 m, 2800 kg/m³ (1257 kg)",
+        source: "seed 000 §2.1",
+    },
+    Assumption {
+        parameter: "Release",
+        value: "one source cell at the start; the rock centre 0.5 m above the ground, moving 1 m/s downslope",
+        source: "ours: rocks thrown over the edge by a caterpillar (seed 000 §2.1)",
+    },
+    Assumption {
+        parameter: "Forest (site 2)",
+        value: "290 stems/ha, DBH 31 ± 21 cm, below the upper 40 m and off the road; Abies alba 50 %, Picea abies 25 %, Fagus sylvatica 17 %, Acer pseudoplatanus 4 %, other broadleaves 4 %; one fixed stem map",
+        source: "seed 000 §2.1; the 4 % the paper leaves unnamed are ours",
+    },
+    Assumption {
+        parameter: "Evaluation screens",
+        value: "across the slope at 185 m and 235 m along the ground from the start (site 1); the lower edge of the road",
+        source: "seed 000 §2.6 and table 3",
+    },
+];
+
+/// Builds site 1 or site 2 as a scenario, with the run-out below the road.
 pub fn build(site: Site) -> Result<Scenario, SiteError> {
-    let g = geometry();
+    build_rows(site, NROWS)
+}
+
+/// Site 1 or site 2 as the experiments observed it: the same slope, cut where the
+/// observations end ([`observed_extent_along_m`]), so that each rock's maxima and tree
+/// impacts are those on the observed slope; rocks running past the cut leave the DEM.
+/// Screens below the cut are dropped.
+pub fn build_observed(site: Site) -> Result<Scenario, SiteError> {
+    let d_m = d_at_along(observed_extent_along_m(site));
+    // the last row's centre at or below the cut: the bilinear surface reaches it
+    let nrows = (d_m / CELL_M - 0.5).ceil() as usize + 1;
+    build_rows(site, nrows.min(NROWS))
+}
+
+fn build_rows(site: Site, nrows: usize) -> Result<Scenario, SiteError> {
+    let g = geometry(nrows);
     let axis_x = g.cell_center(0, START_COL).0;
     let gully = Gully {
         axis_x_m: axis_x,
@@ -176,11 +279,16 @@ pub fn build(site: Site) -> Result<Scenario, SiteError> {
         name: name.into(),
         points_m: vec![[g.x_min_m, Y_MAX_M - d], [g.x_max_m(), Y_MAX_M - d]],
     };
-    let mut screens = vec![
-        across(d_at_along(SCREENS_ALONG_M[0]), "screen_185m"),
-        across(d_at_along(SCREENS_ALONG_M[1]), "screen_235m"),
-    ];
-    screens.push(across(road.1, "lower_road"));
+    let last_centre_d = (nrows as f64 - 0.5) * CELL_M;
+    let screens: Vec<Screen> = [
+        (d_at_along(SCREENS_ALONG_M[0]), "screen_185m"),
+        (d_at_along(SCREENS_ALONG_M[1]), "screen_235m"),
+        (road.1, "lower_road"),
+    ]
+    .into_iter()
+    .filter(|&(d, _)| d <= last_centre_d)
+    .map(|(d, name)| across(d, name))
+    .collect();
 
     let forest = match site {
         Site::One => None,
@@ -280,6 +388,51 @@ mod tests {
         let mean = ((p.z_m(d0) - p.z_m(d1)) / (d1 - d0)).atan().to_degrees();
         assert!((mean - 38.0).abs() < 1e-9);
         assert!(p.length_m() <= NROWS as f64 * CELL_M);
+    }
+
+    #[test]
+    fn observed_sites_end_below_their_last_observation() {
+        for site in [Site::One, Site::Two] {
+            let full = build(site).unwrap();
+            let cut = build_observed(site).unwrap();
+            let (gf, gc) = (full.terrain.dem.geometry(), cut.terrain.dem.geometry());
+            assert!(gc.nrows < gf.nrows && gc.y_max_m() == gf.y_max_m());
+            // the last cell centre lies below the extent, by less than a cell
+            let last = gc.cell_center(gc.nrows - 1, 0).1;
+            let extent = (Y_MAX_M - last) - d_at_along(observed_extent_along_m(site));
+            assert!((0.0..CELL_M).contains(&extent), "{extent}");
+            // the same ground where both have it
+            for i in [0, 7 * NCOLS + 3, gc.len() - 1] {
+                assert_eq!(
+                    full.terrain.dem.grid().get_index(i),
+                    cut.terrain.dem.grid().get_index(i)
+                );
+            }
+            let names: Vec<&str> = cut.screens.iter().map(|s| s.name.as_str()).collect();
+            match site {
+                Site::One => assert_eq!(names, ["screen_185m", "screen_235m", "lower_road"]),
+                Site::Two => assert_eq!(names, ["screen_185m", "lower_road"]),
+            }
+        }
+        // site 2's stems stop at the cut
+        let cut = build_observed(Site::Two).unwrap();
+        let y_min = cut.terrain.dem.geometry().y_min_m;
+        assert!(
+            cut.build_forest()
+                .unwrap()
+                .stems()
+                .iter()
+                .all(|t| t.y_m >= y_min)
+        );
+    }
+
+    #[test]
+    fn along_slope_distances_invert_the_profile() {
+        for along in [0.0, 40.0, 185.0, 223.5, 235.0, 280.0] {
+            let y = Y_MAX_M - d_at_along(along);
+            assert!((along_at_y(y) - along).abs() < 1e-9, "{along}");
+        }
+        assert!(along_at_y(Y_MAX_M - 5.0) < 0.0, "above the start");
     }
 
     #[test]
