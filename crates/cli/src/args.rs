@@ -11,7 +11,7 @@ use std::path::PathBuf;
 /// with terrain and trees). Inputs are a scenario file (`*.toml`) or a Rockyfor3D input folder.
 ///
 /// Exit codes: 0 success, 2 bad input (the message names the file, cell or key), 1 internal
-/// failure or a command not yet available.
+/// failure.
 #[derive(Debug, Parser)]
 #[command(name = "rockfall", version, about, long_about)]
 pub struct Cli {
@@ -163,12 +163,31 @@ pub enum Command {
         #[arg(long, default_value = "rockfall-shape-study")]
         out: PathBuf,
     },
-    /// Run the published-experiment cases (seed 000 tables 2 and 3) and print observed vs
-    /// simulated with error E and RMSE (seed 000 eqs. 5 and 6).
+    /// Run the published-experiment cases and print observed against simulated, with the
+    /// error E = (C − O)·100/O of each quantity and the RMSE of each case (seed 000 eqs. 5
+    /// and 6). Cases: `vaujany-site1` (seed 000 table 2, site 1, and table 3 at its screens at
+    /// 185 m and 235 m, each screen a case of its own), `vaujany-site2` (table 2, site 2, and
+    /// the fig. 2 histogram of tree impacts per rock), both on the lumped engine; and
+    /// `forest-slope-40` (seed 001 §3.4: run-out and spread of three rock shapes on the rigid
+    /// engine, the paper's findings checked). Writes validation.json, validation.md,
+    /// fig2_tree_impacts_per_rock.png and every run's outputs in OUT/<case>.
     Validate {
-        /// Cases to run (default: all).
+        /// Cases to run: vaujany-site1, vaujany-site2, forest-slope-40 (default: all).
         cases: Vec<String>,
-        /// Output folder.
+        /// Rocks per case (per shape for forest-slope-40; ≥ 1); default 10 000 for the
+        /// Vaujany sites as in seed 000, 500 per shape as in seed 001.
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        rocks: Option<u64>,
+        /// A quick look: 1000 rocks per Vaujany site, 30 per shape.
+        #[arg(long, conflicts_with = "rocks")]
+        quick: bool,
+        /// Master seed of every run; default 1.
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Worker threads (≥ 1); default: all cores. Results do not depend on it.
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        threads: Option<u64>,
+        /// Output folder (created if needed; files of an earlier run are replaced).
         #[arg(long, default_value = "rockfall-validation")]
         out: PathBuf,
     },

@@ -4,6 +4,7 @@ use crate::Failure;
 use crate::args::Command;
 use crate::lab;
 use crate::simulate;
+use crate::validate;
 use anyhow::anyhow;
 use rockfall_scenario::{Engine, Summary};
 use std::path::Path;
@@ -102,15 +103,24 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             };
             lab::shape_study(&flags, &out)
         }
-        Command::Validate { .. } => Err(not_yet("validate", "the validation cases")),
+        Command::Validate {
+            cases,
+            rocks,
+            quick,
+            seed,
+            threads,
+            out,
+        } => {
+            let flags = validate::ValidateFlags {
+                cases,
+                rocks,
+                quick,
+                seed,
+                threads,
+            };
+            validate::validate(&flags, &out)
+        }
     }
-}
-
-fn not_yet(command: &str, what: &str) -> Failure {
-    Failure::Internal(anyhow!(
-        "`rockfall {command}` is not yet available: {what} are still being built \
-         (`rockfall check` and `rockfall site` work)"
-    ))
 }
 
 /// Loads an input and builds its forest; every problem is bad input.

@@ -3,7 +3,7 @@
 use crate::Failure;
 use crate::simulate;
 use anyhow::anyhow;
-use rockfall_lab::slope::{FallLine, SlopeRun, write_study};
+use rockfall_lab::slope::{FallLine, SlopeRun, Study, write_study};
 use rockfall_lab::summary::{Labelled, Metrics, regime_table};
 use rockfall_lab::{Lab, LabError, LabSetup, run_lab};
 use rockfall_rigid::shape::body_from_spec;
@@ -127,7 +127,7 @@ pub fn compare(dirs: &[PathBuf], out: &Path) -> Result<(), Failure> {
     Ok(())
 }
 
-fn print_files(out: &Path, files: &[PathBuf]) {
+pub fn print_files(out: &Path, files: &[PathBuf]) {
     println!("wrote {} files to {}:", files.len(), out.display());
     for f in files {
         println!("  {}", f.display());
@@ -152,6 +152,14 @@ pub struct StudyFlags {
 
 /// `rockfall shape-study`.
 pub fn shape_study(flags: &StudyFlags, out: &Path) -> Result<(), Failure> {
+    let (study, _) = run_shape_study(flags, out)?;
+    print!("{}", study.markdown);
+    print_files(out, &study.files);
+    Ok(())
+}
+
+/// Runs and writes the shape study of `flags` into `out`; returns it with its runs.
+pub fn run_shape_study(flags: &StudyFlags, out: &Path) -> Result<(Study, Vec<SlopeRun>), Failure> {
     if !(flags.interval_s.is_finite() && flags.interval_s > 0.0) {
         return Err(Failure::BadInput(anyhow!(
             "--interval-s must be finite and > 0"
@@ -184,9 +192,7 @@ pub fn shape_study(flags: &StudyFlags, out: &Path) -> Result<(), Failure> {
         runs.push(SlopeRun::new(label, &results));
     }
     let study = write_study(out, &runs, &line).map_err(failure)?;
-    print!("{}", study.markdown);
-    print_files(out, &study.files);
-    Ok(())
+    Ok((study, runs))
 }
 
 /// `base` once per shape of `shapes` (at `base`'s rock volume), labelled; every shape is

@@ -5,6 +5,7 @@ mod args;
 mod commands;
 mod lab;
 mod simulate;
+mod validate;
 
 use clap::Parser;
 use std::process::ExitCode;
@@ -13,7 +14,7 @@ use std::process::ExitCode;
 pub enum Failure {
     /// The user's input is at fault; the message names the file, cell or key.
     BadInput(anyhow::Error),
-    /// Our fault, or a feature not yet available.
+    /// Our fault.
     Internal(anyhow::Error),
 }
 

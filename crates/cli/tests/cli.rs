@@ -5,26 +5,11 @@
 
 mod common;
 
-use common::{Run, rockfall, rockfall_in, s};
+use common::{bad_input, ok, rockfall, rockfall_in, s};
 
 use tempfile::TempDir;
 
 const SITES: [&str; 3] = ["vaujany-site1", "vaujany-site2", "forest-slope-40"];
-
-/// Asserts success; returns stdout.
-fn ok(run: Run) -> String {
-    assert_eq!(run.code, Some(0), "{run}");
-    run.stdout
-}
-
-/// Asserts exit 2 (bad input), no panic, and every needle in stderr.
-fn bad_input(run: Run, needles: &[&str]) {
-    assert_eq!(run.code, Some(2), "{run}");
-    assert!(!run.stderr.contains("panicked"), "{run}");
-    for n in needles {
-        assert!(run.stderr.contains(n), "expected `{n}` in stderr: {run}");
-    }
-}
 
 /// Writes site `name` with `rockfall site` into a fresh folder; returns (tempdir, site dir).
 fn site(name: &str) -> (TempDir, std::path::PathBuf) {

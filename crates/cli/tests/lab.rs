@@ -5,29 +5,8 @@
 
 mod common;
 
-use common::{Run, rockfall, s};
-use serde_json::Value;
+use common::{bad_input, is_png, json, ok, rockfall, s};
 use std::path::Path;
-
-fn ok(run: Run) -> String {
-    assert_eq!(run.code, Some(0), "{run}");
-    run.stdout
-}
-
-fn bad_input(run: Run, needles: &[&str]) {
-    assert_eq!(run.code, Some(2), "{run}");
-    for n in needles {
-        assert!(run.stderr.contains(n), "`{n}` missing:\n{run}");
-    }
-}
-
-fn json(path: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-fn is_png(path: &Path) -> bool {
-    std::fs::read(path).is_ok_and(|b| b.starts_with(b"\x89PNG\r\n\x1a\n") && b.len() > 2000)
-}
 
 const FIGURES: [&str; 4] = [
     "energy_loss_total.png",

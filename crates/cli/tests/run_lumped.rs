@@ -7,19 +7,12 @@
 
 mod common;
 
-use common::{Run, rockfall, s};
+use common::{ok, rockfall, s};
 
 use rockfall_raster::{Grid, read_grid};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use tempfile::TempDir;
-
-/// Asserts success; returns stdout.
-fn ok(run: Run) -> String {
-    assert_eq!(run.code, Some(0), "{run}");
-    assert!(!run.stderr.contains("panicked"), "{run}");
-    run.stdout
-}
 
 /// `rockfall site vaujany-site2` into a fresh folder; returns (tempdir, site dir).
 fn site() -> (TempDir, PathBuf) {

@@ -49,3 +49,29 @@ pub fn rockfall(args: &[&str]) -> Run {
 pub fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
+
+/// Asserts success (exit 0, no panic); returns stdout.
+pub fn ok(run: Run) -> String {
+    assert_eq!(run.code, Some(0), "{run}");
+    assert!(!run.stderr.contains("panicked"), "{run}");
+    run.stdout
+}
+
+/// Asserts exit 2 (bad input), no panic, and every needle in stderr.
+pub fn bad_input(run: Run, needles: &[&str]) {
+    assert_eq!(run.code, Some(2), "{run}");
+    assert!(!run.stderr.contains("panicked"), "{run}");
+    for n in needles {
+        assert!(run.stderr.contains(n), "expected `{n}` in stderr: {run}");
+    }
+}
+
+/// A JSON file, parsed.
+pub fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// True for a PNG file of some substance.
+pub fn is_png(path: &Path) -> bool {
+    std::fs::read(path).is_ok_and(|b| b.starts_with(b"\x89PNG\r\n\x1a\n") && b.len() > 2000)
+}

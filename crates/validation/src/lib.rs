@@ -1,0 +1,68 @@
+//! The published-experiment cases of `rockfall validate`.
+//!
+//! - Seed 000 (Dorren et al. 2006) tables 2 and 3: the observed figures of the Vaujany
+//!   experiments ([`observed`]), the same quantities computed from a run of the built-in
+//!   sites exactly as §2.6 defines them ([`measure`]), the error of each (eq. 5) and the RMSE
+//!   of each case and group (eq. 6, [`metrics`], [`case`]); each table 3 screen is a case of
+//!   its own (`vaujany-site1/screen-185m`, `…/screen-235m`) with the paper's mean and max
+//!   groups.
+//! - Seed 001 §3.4: the forest-slope runs of three rock shapes, whose findings (fig. 6) are
+//!   checked rather than measured ([`shapes`]).
+//! - Outputs: the terminal table, `validation.json`, `validation.md` ([`report`]) and the
+//!   fig. 2 histogram ([`figure`]).
+//!
+//! Running the engines is the caller's business (the command line does it with a progress
+//! bar); everything here works on `summary.json` values, per-rock records and slope-study
+//! statistics.
+
+pub mod case;
+pub mod figure;
+pub mod measure;
+pub mod metrics;
+pub mod observed;
+pub mod report;
+pub mod shapes;
+
+pub use case::{CaseReport, Check, GroupRmse, Row};
+pub use observed::{Published, published};
+pub use report::Meta;
+
+use std::path::{Path, PathBuf};
+
+/// What can go wrong writing the validation's outputs.
+#[derive(Debug, thiserror::Error)]
+pub enum ValidationError {
+    /// Writing a file failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Writing JSON failed.
+    #[error(transparent)]
+    Results(#[from] rockfall_results::ResultsError),
+    /// Drawing a figure failed.
+    #[error("figure: {0}")]
+    Plot(String),
+    /// Nothing to draw or compare.
+    #[error("{0}")]
+    Empty(String),
+}
+
+/// Writes `validation.json` and `validation.md` into `out_dir` (atomically); returns their
+/// paths.
+pub fn write_reports(
+    out_dir: &Path,
+    cases: &[CaseReport],
+    meta: &Meta,
+) -> Result<Vec<PathBuf>, ValidationError> {
+    let json_path = out_dir.join("validation.json");
+    rockfall_results::write_json(&json_path, &report::validation_json(cases, meta))?;
+    let md_path = out_dir.join("validation.md");
+    let md = report::markdown(cases, meta);
+    rockfall_raster::atomic::write_bytes_atomic(&md_path, md.as_bytes())
+        .map_err(|(path, source)| ValidationError::Io { path, source })?;
+    Ok(vec![json_path, md_path])
+}

@@ -1,0 +1,246 @@
+//! The validation's outputs: the terminal table, `validation.json` and `validation.md`.
+
+use crate::case::{CaseReport, Row};
+use rockfall_sites::vaujany::RECONSTRUCTION;
+use serde_json::{Value, json};
+
+/// What was run, for the report's header.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Meta {
+    /// Master seed of every run.
+    pub seed: u64,
+    /// Worker threads.
+    pub threads: usize,
+    /// Wall-clock time of all runs, s.
+    pub wall_time_s: f64,
+    /// The command line.
+    pub command: String,
+    /// Engine settings that differ from a plain reading of the paper, one line each.
+    pub settings: Vec<String>,
+    /// Figures written beside the report: (caption, file name).
+    pub figures: Vec<(String, String)>,
+}
+
+/// `1234`, `12.3`, `1.23`, or `–` for none.
+fn num(v: Option<f64>) -> String {
+    match v {
+        None => "–".into(),
+        Some(v) if v.abs() >= 100.0 => format!("{v:.0}"),
+        Some(v) if v.abs() >= 10.0 => format!("{v:.1}"),
+        Some(v) => format!("{v:.2}"),
+    }
+}
+
+/// An RMSE: `12.3 %` or `–`.
+fn rmse(v: Option<f64>) -> String {
+    v.map_or("–".into(), |v| format!("{v:.1} %"))
+}
+
+/// `+12.3 %` or `–`.
+fn pct(v: Option<f64>) -> String {
+    v.map_or("–".into(), |v| format!("{v:+.1} %"))
+}
+
+fn row_json(r: &Row) -> Value {
+    json!({
+        "quantity": r.quantity,
+        "key": r.key,
+        "group": r.group,
+        "observed": r.observed,
+        "simulated": r.simulated,
+        "error_pct": r.error_pct,
+        "rockyfor": r.rockyfor,
+        "rockyfor_error_pct": r.rockyfor_error_pct,
+    })
+}
+
+/// One case of `validation.json`.
+pub fn case_json(c: &CaseReport) -> Value {
+    json!({
+        "name": c.name,
+        "title": c.title,
+        "source": c.source,
+        "engine": c.engine,
+        "rocks": c.rocks,
+        "rmse_pct": c.rmse_pct,
+        "rockyfor_rmse_pct": c.rockyfor_rmse_pct(),
+        "groups": c.groups.iter().map(|g| json!({
+            "name": g.name, "rmse_pct": g.rmse_pct, "rockyfor_rmse_pct": g.rockyfor_rmse_pct,
+        })).collect::<Vec<_>>(),
+        "rows": c.rows.iter().map(row_json).collect::<Vec<_>>(),
+        "checks": c.checks.iter().map(|k| json!({
+            "claim": k.claim, "paper": k.paper, "simulated": k.simulated, "holds": k.holds,
+        })).collect::<Vec<_>>(),
+        "notes": c.notes,
+    })
+}
+
+/// `validation.json`: `{"cases": [...], ...}` with what was run.
+pub fn validation_json(cases: &[CaseReport], meta: &Meta) -> Value {
+    json!({
+        "version": env!("CARGO_PKG_VERSION"),
+        "seed": meta.seed,
+        "threads": meta.threads,
+        "wall_time_s": meta.wall_time_s,
+        "command": meta.command,
+        "settings": meta.settings,
+        "cases": cases.iter().map(case_json).collect::<Vec<_>>(),
+    })
+}
+
+/// The RMSE lines of a case: per group, then over all rows, ours against RockyFor's.
+fn rmse_lines(c: &CaseReport) -> Vec<(String, Option<f64>, Option<f64>)> {
+    let mut v: Vec<_> = (c.groups.iter())
+        .filter(|g| c.groups.len() > 1 || g.name != "table 2")
+        .map(|g| {
+            (
+                format!("RMSE {}", g.name),
+                g.rmse_pct,
+                Some(g.rockyfor_rmse_pct),
+            )
+        })
+        .collect();
+    if c.rmse_pct.is_some() {
+        v.push(("RMSE (eq. 6)".into(), c.rmse_pct, c.rockyfor_rmse_pct()));
+    }
+    v
+}
+
+/// The comparison as text for the terminal.
+pub fn terminal(cases: &[CaseReport]) -> String {
+    let mut t = String::new();
+    for c in cases {
+        t += &format!(
+            "\n{} — {} [{}, {} rocks]\n",
+            c.name, c.title, c.engine, c.rocks
+        );
+        t += &format!(
+            "  {:<58} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
+            "quantity", "observed", "simulated", "E", "RockyFor", "its E"
+        );
+        for r in &c.rows {
+            t += &format!(
+                "  {:<58} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
+                r.quantity,
+                num(r.observed),
+                num(r.simulated),
+                pct(r.error_pct),
+                num(r.rockyfor),
+                pct(r.rockyfor_error_pct)
+            );
+        }
+        for (label, ours, paper) in rmse_lines(c) {
+            t += &format!(
+                "  {:<58} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
+                label,
+                "",
+                "",
+                rmse(ours),
+                "",
+                rmse(paper)
+            );
+        }
+        for k in &c.checks {
+            t += &format!(
+                "  {}: paper {}, simulated {} — {}\n",
+                k.claim,
+                k.paper,
+                k.simulated,
+                if k.holds { "agrees" } else { "differs" }
+            );
+        }
+        for n in &c.notes {
+            t += &format!("  note: {n}\n");
+        }
+    }
+    t
+}
+
+/// One case as Markdown.
+fn case_markdown(c: &CaseReport) -> String {
+    let mut t = format!(
+        "## {}\n\n{} — {} engine, {} rocks. Source: {}.\n\n",
+        c.name, c.title, c.engine, c.rocks, c.source
+    );
+    t += "| quantity | observed | simulated | E (eq. 5) | RockyFor | its E |\n\
+          |---|--:|--:|--:|--:|--:|\n";
+    for r in &c.rows {
+        t += &format!(
+            "| {} | {} | {} | {} | {} | {} |\n",
+            r.quantity,
+            num(r.observed),
+            num(r.simulated),
+            pct(r.error_pct),
+            num(r.rockyfor),
+            pct(r.rockyfor_error_pct)
+        );
+    }
+    for (label, ours, paper) in rmse_lines(c) {
+        t += &format!(
+            "| **{label}** | | | **{}** | | {} |\n",
+            rmse(ours),
+            rmse(paper)
+        );
+    }
+    if !c.checks.is_empty() {
+        t += "\n| finding | paper | simulated | |\n|---|---|---|---|\n";
+        for k in &c.checks {
+            let verdict = if k.holds { "agrees" } else { "differs" };
+            t += &format!(
+                "| {} | {} | {} | {verdict} |\n",
+                k.claim, k.paper, k.simulated
+            );
+        }
+    }
+    for n in &c.notes {
+        t += &format!("\nNote: {n}.\n");
+    }
+    t + "\n"
+}
+
+/// `validation.md`: readable on its own — what was run, every case, the figures, how the
+/// sites were rebuilt, and the discussion of the large errors.
+pub fn markdown(cases: &[CaseReport], meta: &Meta) -> String {
+    let mut t = String::from("# Validation against published experiments\n\n");
+    t += &format!(
+        "`{}` — rockfall {}, seed {}, {} threads, {:.1} s.\n\n",
+        meta.command,
+        env!("CARGO_PKG_VERSION"),
+        meta.seed,
+        meta.threads,
+        meta.wall_time_s
+    );
+    t += "E = (C − O)·100/O (seed 000 eq. 5) for each quantity, RMSE = √(ΣE²/n) (eq. 6) over a \
+          case; RockyFor's values and errors are those the paper printed.\n\n";
+    t += "| case | engine | rocks | RMSE | RockyFor's RMSE |\n|---|---|--:|--:|--:|\n";
+    for c in cases {
+        t += &format!(
+            "| {} | {} | {} | {} | {} |\n",
+            c.name,
+            c.engine,
+            c.rocks,
+            rmse(c.rmse_pct),
+            rmse(c.rockyfor_rmse_pct())
+        );
+    }
+    if !meta.settings.is_empty() {
+        t += "\nEngine settings: ";
+        t += &meta.settings.join("; ");
+        t += ".\n";
+    }
+    t += "\n";
+    for c in cases {
+        t += &case_markdown(c);
+    }
+    for (caption, file) in &meta.figures {
+        t += &format!("![{caption}]({file})\n\n*{caption}*\n\n");
+    }
+    t += "## How the Vaujany sites are rebuilt\n\nNothing here is tuned to the observed \
+          figures.\n\n| parameter | value | source |\n|---|---|---|\n";
+    for a in RECONSTRUCTION {
+        t += &format!("| {} | {} | {} |\n", a.parameter, a.value, a.source);
+    }
+    t += "\n";
+    t += include_str!("discussion.md");
+    t
+}
