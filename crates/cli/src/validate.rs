@@ -72,8 +72,13 @@ pub fn validate(flags: &ValidateFlags, out: &Path) -> Result<(), Failure> {
         seed,
         threads,
         wall_time_s: 0.0,
+        // lossy: a path that is not UTF-8 must not make the report panic
         command: std::iter::once("rockfall".to_string())
-            .chain(std::env::args().skip(1))
+            .chain(
+                std::env::args_os()
+                    .skip(1)
+                    .map(|a| a.to_string_lossy().into_owned()),
+            )
             .collect::<Vec<_>>()
             .join(" "),
         settings: Vec::new(),
@@ -150,17 +155,17 @@ fn vaujany_cases(
             Some(screen) => measure::screen_quantities(&summary, screen),
         };
         let mut case = CaseReport::compare(p, "lumped", results.rocks(), &simulated);
-        if p.screen.is_none()
-            && let Some((v, h)) = measure::per_rock_quantile_of_max(records, p.observed_rocks)
+        if let Some(n) = p.observed_rocks
+            && let Some((v, h)) = measure::per_rock_quantile_of_max(records, n)
         {
             case.notes.push(format!(
                 "the maxima are over {} simulated rocks, the observed ones over {}; the largest \
                  of {} rocks is, in expectation, near the per-rock {:.0}th percentile: {v:.1} m/s \
                  and {h:.2} m here",
                 results.rocks(),
-                p.observed_rocks,
-                p.observed_rocks,
-                100.0 * (1.0 - 1.0 / (f64::from(p.observed_rocks) + 1.0))
+                n,
+                n,
+                100.0 * (1.0 - 1.0 / (f64::from(n) + 1.0))
             ));
         }
         cases.push(case);

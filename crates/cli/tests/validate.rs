@@ -7,6 +7,7 @@
 mod common;
 
 use common::{bad_input, is_png, json, ok, rockfall, s};
+use rockfall_sites::vaujany::along_at_y;
 use serde_json::Value;
 use std::path::Path;
 
@@ -21,19 +22,27 @@ fn case<'a>(v: &'a Value, name: &str) -> &'a Value {
         .unwrap_or_else(|| panic!("no case {name}"))
 }
 
-/// The simulated value of row `key` of a case.
-fn simulated(c: &Value, key: &str) -> f64 {
-    let row = (c["rows"].as_array().unwrap().iter())
-        .find(|r| r["key"] == key)
-        .unwrap_or_else(|| panic!("no row {key} in {}", c["name"]));
-    f(&row["simulated"])
-}
-
 /// The screen `name` of a run's summary.json.
 fn screen<'a>(summary: &'a Value, name: &str) -> &'a Value {
     (summary["screens"].as_array().unwrap().iter())
         .find(|s| s["name"] == name)
         .unwrap()
+}
+
+/// Share of the rocks of `rocks.csv` in `run` at rest less than 223.5 m along the ground from
+/// the start, %, counted afresh.
+fn stopped_within_pct(run: &Path) -> f64 {
+    let text = std::fs::read_to_string(run.join("rocks.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 1000, "one row per rock");
+    let within = (rows.iter())
+        .filter(|r| r[col("outcome")] == "stopped")
+        .filter(|r| along_at_y(r[col("y_m")].parse().unwrap()) < 223.5)
+        .count();
+    100.0 * within as f64 / rows.len() as f64
 }
 
 #[test]
@@ -98,47 +107,44 @@ fn quick_vaujany_cases_compute_eqs_5_and_6_from_their_runs() {
         13.0
     );
 
-    // the simulated values are those of the runs written beside the report
-    for site in ["vaujany-site1", "vaujany-site2"] {
+    // every simulated value is found again in the run written beside the report
+    for c in v["cases"].as_array().unwrap() {
+        let name = c["name"].as_str().unwrap();
+        let site = name.split('/').next().unwrap();
         let sum = json(&out.join(site).join("summary.json"));
-        let c = case(&v, site);
         assert_eq!(sum["rocks"], 1000);
-        assert_eq!(
-            simulated(c, "mean_max_velocity_ms"),
-            f(&sum["max_velocity_ms"]["mean"])
-        );
-        assert_eq!(
-            simulated(c, "max_rebound_height_m"),
-            f(&sum["max_jump_height_m"]["max"])
-        );
-        let road = f(&screen(&sum, "lower_road")["passed_fraction"]);
-        assert!((simulated(c, "passed_lower_road_pct") - 100.0 * road).abs() < 1e-9);
-        let rocks_csv = std::fs::read_to_string(out.join(site).join("rocks.csv")).unwrap();
-        assert_eq!(rocks_csv.lines().count(), 1001, "{site}: one row per rock");
+        let at_screen = (name.split_once("/screen-"))
+            .map(|(_, m)| screen(&sum, &format!("screen_{m}")).clone());
+        for r in c["rows"].as_array().unwrap() {
+            let key = r["key"].as_str().unwrap();
+            let expected = match (&at_screen, key) {
+                (Some(s), _) => {
+                    let (stat, what) = key.split_once('_').unwrap();
+                    let summary_key = match what {
+                        "velocity_ms" => "velocity_ms",
+                        "rebound_height_m" => "jump_height_m",
+                        "energy_kj" => "energy_kj",
+                        other => panic!("{name}: {other}"),
+                    };
+                    f(&s[summary_key][stat])
+                }
+                (None, "mean_max_velocity_ms") => f(&sum["max_velocity_ms"]["mean"]),
+                (None, "max_velocity_ms") => f(&sum["max_velocity_ms"]["max"]),
+                (None, "max_rebound_height_m") => f(&sum["max_jump_height_m"]["max"]),
+                (None, "tree_impacts_per_rock") => f(&sum["tree_impacts_per_rock"]),
+                (None, "passed_lower_road_pct") => {
+                    100.0 * f(&screen(&sum, "lower_road")["passed_fraction"])
+                }
+                (None, "stopped_within_223_5m_pct") => stopped_within_pct(&out.join(site)),
+                (None, other) => panic!("{name}: unexpected row {other}"),
+            };
+            let got = f(&r["simulated"]);
+            assert!(
+                (got - expected).abs() <= 1e-9 * expected.abs().max(1.0),
+                "{name} {key}: {got} vs {expected}"
+            );
+        }
     }
-    let site2 = json(&out.join("vaujany-site2/summary.json"));
-    assert_eq!(
-        simulated(case(&v, "vaujany-site2"), "tree_impacts_per_rock"),
-        f(&site2["tree_impacts_per_rock"])
-    );
-    let site1 = json(&out.join("vaujany-site1/summary.json"));
-    let s185 = screen(&site1, "screen_185m");
-    let c185 = case(&v, "vaujany-site1/screen-185m");
-    assert_eq!(
-        simulated(c185, "mean_velocity_ms"),
-        f(&s185["velocity_ms"]["mean"])
-    );
-    assert_eq!(
-        simulated(c185, "max_energy_kj"),
-        f(&s185["energy_kj"]["max"])
-    );
-    assert_eq!(
-        simulated(
-            case(&v, "vaujany-site1/screen-235m"),
-            "mean_rebound_height_m"
-        ),
-        f(&screen(&site1, "screen_235m")["jump_height_m"]["mean"])
-    );
 
     let md = std::fs::read_to_string(out.join("validation.md")).unwrap();
     for needle in [
@@ -236,4 +242,21 @@ fn bad_cases_and_flags_are_refused_before_anything_runs() {
     let zero = rockfall(&["validate", "--rocks", "0", "--out", s(&out)]);
     assert_eq!(zero.code, Some(2), "{zero}");
     assert!(!out.exists(), "nothing written");
+}
+
+#[cfg(unix)]
+#[test]
+fn an_output_path_that_is_not_utf8_is_no_reason_to_panic() {
+    use std::os::unix::ffi::OsStrExt;
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join(std::ffi::OsStr::from_bytes(b"v\xff"));
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_rockfall"))
+        .args(["validate", "vaujany-site2", "--rocks", "3", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(0), "{stderr}");
+    let v = json(&out.join("validation.json"));
+    assert!(v["command"].as_str().unwrap().contains('\u{fffd}'), "{v}");
 }

@@ -5,8 +5,8 @@
 //! - **tangential with rotation**: Pfeiffer & Bowen (1989, CRSP) let the rock leave the ground
 //!   rolling, its tangential speed set by the tangential and rotational energy it brought in,
 //!   scaled by a friction and a scaling factor: `v_t⁺ = √(R²(I ω⁻² + m v_t⁻²) f(F) SF /
-//!   (I + m R²))`. RockyFor puts r_t of eq. 3 in place of `f(F)·SF`
-//!   ([`TangentialLaw::PfeifferBowen`], the default):
+//!   (I + m R²))`. We read seed 000's "modified from Pfeiffer and Bowen" as r_t of eq. 3 in
+//!   place of `f(F)·SF` ([`TangentialLaw::PfeifferBowen`], the default):
 //!   `v_t⁺ = √(r_t (k v_t⁻² + (1−k) R² ω⁻²))`, `k = mR²/(mR² + I)`, `ω⁺ = v_t⁺ / R`,
 //!   with ω⁻ the incoming spin about the rolling axis. r_t scales energy: a rolling rock
 //!   keeps `√r_t · v_t⁻`, and the rebound's tangential and rotational energy is `r_t` times

@@ -64,7 +64,8 @@ impl FromStr for MohMode {
 pub enum TangentialLaw {
     /// Pfeiffer & Bowen 1989 (CRSP) with r_t in place of their friction and scaling factors:
     /// r_t scales the tangential and rotational *energy*, `v_t⁺ = √(r_t (k v_t² + (1−k) R² ω²))`
-    /// (default; the law RockyFor computes with).
+    /// (default; seed 000 names Pfeiffer & Bowen as the basis of its rebound, not the exact
+    /// form; chosen when the velocity-ratio reading gave half the observed speeds).
     #[default]
     PfeifferBowen,
     /// r_t as the ratio of tangential *velocities* that seed 000 §3.2 measured on its films:

@@ -113,7 +113,8 @@ impl CaseReport {
             Vec::new()
         } else {
             vec![format!(
-                "not simulated (left out of the RMSE): {}",
+                "no simulated value (not computed, or no rock crossed the screen), left out of \
+                 the RMSE: {}",
                 missing.join(", ")
             )]
         };

@@ -77,7 +77,7 @@ pub fn stopped_within_pct(records: &[RockRecord], along_m: f64) -> Option<f64> {
     let n = records
         .iter()
         .filter(|r| matches!(r.end.outcome, Outcome::Stopped { .. }))
-        .filter(|r| along_at_y(r.end.y_m) < along_m)
+        .filter(|r| r.end.y_m.is_finite() && along_at_y(r.end.y_m) < along_m)
         .count();
     (!records.is_empty()).then(|| 100.0 * n as f64 / records.len() as f64)
 }
@@ -171,6 +171,10 @@ mod tests {
             record(3, Outcome::NetStopped { cell: 0 }, 50.0, 0),
             record(4, Outcome::LeftDem, 10.0, 3),
         ];
+        // an end point that is not a number is not "within"
+        let mut nan = recs;
+        nan[2].end.y_m = f64::NAN;
+        assert_eq!(stopped_within_pct(&nan, 223.5), Some(40.0));
         assert_eq!(stopped_within_pct(&recs, 223.5), Some(40.0));
         assert_eq!(stopped_within_pct(&[], 223.5), None);
         assert_eq!(tree_impact_counts(&recs), vec![2, 1, 0, 2]);

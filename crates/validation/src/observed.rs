@@ -43,8 +43,8 @@ pub struct Published {
     pub title: &'static str,
     /// Where the figures are from.
     pub source: &'static str,
-    /// Rocks observed.
-    pub observed_rocks: u32,
+    /// Rocks observed on the site (the paper gives no count per screen).
+    pub observed_rocks: Option<u32>,
     /// Screen the quantities are measured at (table 3), by its name in the site's scenario.
     pub screen: Option<&'static str>,
     /// The observed quantities.
@@ -73,8 +73,8 @@ const fn q(
 
 const T2: &str = "table 2";
 
-/// Table 2 rows shared by both sites: [O, C, E] of site 1 and of site 2.
-fn table2(site: usize) -> Vec<Quantity> {
+/// Table 2's column of site 1 or, `forested`, of site 2: [O, C, E] of each row.
+fn table2(forested: bool) -> Vec<Quantity> {
     let rows: [(&str, &str, &str, [[f64; 3]; 2]); 5] = [
         (
             "mean_max_velocity_ms",
@@ -109,10 +109,10 @@ fn table2(site: usize) -> Vec<Quantity> {
     ];
     let mut v: Vec<Quantity> = rows
         .iter()
-        .map(|&(key, label, unit, sites)| q(key, label, unit, T2, sites[site]))
+        .map(|&(key, label, unit, sites)| q(key, label, unit, T2, sites[usize::from(forested)]))
         .collect();
-    if site == 1 {
-        // site 1 is unforested: "n.a." in the paper
+    if forested {
+        // on the unforested site 1 the paper has "n.a."
         let trees = q(
             "tree_impacts_per_rock",
             "Mean number of tree impacts per falling rock",
@@ -181,9 +181,9 @@ pub fn published() -> Vec<Published> {
             site: "vaujany-site1",
             title: "Site 1 (unforested avalanche track), slope scale",
             source: "Dorren et al. 2006 (seed 000), table 2; observed n = 100",
-            observed_rocks: 100,
+            observed_rocks: Some(100),
             screen: None,
-            quantities: table2(0),
+            quantities: table2(false),
             groups: vec![Group {
                 name: T2,
                 rockyfor_rmse_pct: 17.0,
@@ -194,7 +194,7 @@ pub fn published() -> Vec<Published> {
             site: "vaujany-site1",
             title: "Site 1, evaluation screen 1 (185 m along the slope)",
             source: "Dorren et al. 2006 (seed 000), table 3",
-            observed_rocks: 100,
+            observed_rocks: None,
             screen: Some("screen_185m"),
             quantities: table3([
                 [12.5, 17.1, 36.8],
@@ -211,7 +211,7 @@ pub fn published() -> Vec<Published> {
             site: "vaujany-site1",
             title: "Site 1, evaluation screen 2 (235 m along the slope)",
             source: "Dorren et al. 2006 (seed 000), table 3",
-            observed_rocks: 100,
+            observed_rocks: None,
             screen: Some("screen_235m"),
             quantities: table3([
                 [13.8, 17.3, 25.4],
@@ -228,9 +228,9 @@ pub fn published() -> Vec<Published> {
             site: "vaujany-site2",
             title: "Site 2 (forested), slope scale",
             source: "Dorren et al. 2006 (seed 000), table 2; observed n = 102",
-            observed_rocks: 102,
+            observed_rocks: Some(102),
             screen: None,
-            quantities: table2(1),
+            quantities: table2(true),
             groups: vec![Group {
                 name: T2,
                 rockyfor_rmse_pct: 13.0,
