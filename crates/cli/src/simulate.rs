@@ -94,7 +94,7 @@ fn lumped_parameters(
     let l = &scenario.lumped;
     let first = model.sources().first();
     let v = json!({
-        "moh": format!("{:?}", l.moh).to_lowercase(),
+        "moh": l.moh.name(),
         "tangential_law": l.tangential.name(),
         "rt_variation": l.rt_variation,
         "slope_reduction_max_deg": l.slope_reduction_max_deg,

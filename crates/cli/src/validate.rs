@@ -4,7 +4,7 @@ use crate::Failure;
 use crate::lab::{StudyFlags, print_files, run_shape_study};
 use crate::simulate;
 use anyhow::anyhow;
-use rockfall_scenario::{LumpedSettings, Scenario};
+use rockfall_scenario::{LumpedSettings, MohMode, Scenario};
 use rockfall_sites::vaujany::{self, Site};
 use rockfall_validation::figure::{FIG2_FILE, tree_impacts_figure};
 use rockfall_validation::shapes::{SHAPES, shape_case};
@@ -148,8 +148,9 @@ fn vaujany_cases(
     simulate::write(&results, &out.join(name), false)?;
     let summary = results.summary_json();
     let records = results.rock_records();
+    let site_published: Vec<_> = published().into_iter().filter(|p| p.site == name).collect();
     let mut cases = Vec::new();
-    for p in published().iter().filter(|p| p.site == name) {
+    for p in &site_published {
         let simulated = match p.screen {
             None => measure::slope_quantities(&summary, records),
             Some(screen) => measure::screen_quantities(&summary, screen),
@@ -170,10 +171,8 @@ fn vaujany_cases(
         }
         cases.push(case);
     }
-    let trees = published()
-        .into_iter()
-        .filter(|p| p.site == name)
-        .flat_map(|p| p.quantities)
+    let trees = (site_published.iter())
+        .flat_map(|p| &p.quantities)
         .find(|q| q.key == "tree_impacts_per_rock");
     if let (Some(q), Some(_)) = (trees, forest) {
         let counts = measure::tree_impact_counts(records);
@@ -189,18 +188,19 @@ fn vaujany_cases(
 
 /// The lumped engine's settings in a line.
 fn lumped_settings(l: &LumpedSettings) -> String {
+    let moh = match l.moh {
+        MohMode::Draw => "drawn 70/20/10 %",
+        MohMode::Mean => "the eq. 4 mean",
+    };
     format!(
-        "lumped: tangential rebound law {}, MOH {:?} per rebound, r_t ± {} %, slope lowered by \
+        "lumped: tangential rebound law {}, MOH {moh} per rebound, r_t ± {} %, slope lowered by \
          up to {}°, lateral deviation ≤ {}°, stop below {} m/s",
         l.tangential.name(),
-        l.moh,
         100.0 * l.rt_variation,
         l.slope_reduction_max_deg,
         l.max_lateral_deviation_deg,
         l.stop_velocity_ms
     )
-    .replace("Draw", "drawn 70/20/10 %")
-    .replace("Mean", "the eq. 4 mean")
 }
 
 /// Runs seed 001's shape study on the built-in forest-slope-40 into `out/<name>` and checks

@@ -269,10 +269,7 @@ impl Writer {
 
 fn settings_toml(s: &Scenario, t: &mut String) {
     let l = &s.lumped;
-    let moh = match l.moh {
-        rockfall_scenario::MohMode::Draw => "draw",
-        rockfall_scenario::MohMode::Mean => "mean",
-    };
+    let moh = l.moh.name();
     let _ = write!(
         t,
         "\n[lumped]\nmoh = \"{moh}\"\ntangential_law = \"{}\"\nrt_variation = {}\nslope_reduction_max_deg = {}\nmax_lateral_deviation_deg = {}\nstop_velocity_ms = {}\n",

@@ -98,74 +98,76 @@ fn event_name(e: Event) -> &'static str {
     }
 }
 
-/// Writes `trajectories.csv`: the header, then one line per row; numbers in the shortest form
-/// that reads back to the same `f64`.
-pub(crate) fn write_trajectories(path: &Path, rows: &[TrajectoryRow]) -> Result<(), ResultsError> {
+/// Writes a CSV file atomically: `header`, then one line per row by `line`.
+fn write_csv<T>(
+    path: &Path,
+    header: &str,
+    rows: &[T],
+    line: impl Fn(&mut dyn Write, &T) -> std::io::Result<()>,
+) -> Result<(), ResultsError> {
     atomic::write_atomic(path, |w| {
         let io = |e| ResultsError::Io {
             path: path.to_path_buf(),
             source: e,
         };
-        writeln!(w, "{TRAJECTORY_HEADER}").map_err(io)?;
+        writeln!(w, "{header}").map_err(io)?;
         for r in rows {
-            writeln!(
-                w,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                r.rock_id,
-                r.t_s,
-                r.x_m,
-                r.y_m,
-                r.z_m,
-                r.vx_ms,
-                r.vy_ms,
-                r.vz_ms,
-                r.wx_rads,
-                r.wy_rads,
-                r.wz_rads,
-                r.e_trans_j,
-                r.e_rot_j,
-                event_name(r.event)
-            )
-            .map_err(io)?;
+            line(w, r).map_err(io)?;
         }
         Ok(())
+    })
+}
+
+/// Writes `trajectories.csv`: the header, then one line per row; numbers in the shortest form
+/// that reads back to the same `f64`.
+pub(crate) fn write_trajectories(path: &Path, rows: &[TrajectoryRow]) -> Result<(), ResultsError> {
+    write_csv(path, TRAJECTORY_HEADER, rows, |w, r| {
+        writeln!(
+            w,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            r.rock_id,
+            r.t_s,
+            r.x_m,
+            r.y_m,
+            r.z_m,
+            r.vx_ms,
+            r.vy_ms,
+            r.vz_ms,
+            r.wx_rads,
+            r.wy_rads,
+            r.wz_rads,
+            r.e_trans_j,
+            r.e_rot_j,
+            event_name(r.event)
+        )
     })
 }
 
 /// Writes `rocks.csv`: the header, then one line per record; numbers in the shortest form
 /// that reads back to the same `f64`, the outcome by [`crate::Outcome::name`].
 pub(crate) fn write_rocks(path: &Path, records: &[RockRecord]) -> Result<(), ResultsError> {
-    atomic::write_atomic(path, |w| {
-        let io = |e| ResultsError::Io {
-            path: path.to_path_buf(),
-            source: e,
-        };
-        writeln!(w, "{ROCKS_HEADER}").map_err(io)?;
-        for r in records {
-            let [x0, y0, z0] = r.start_m;
-            let e = &r.end;
-            writeln!(
-                w,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                r.rock_id,
-                r.source_cell,
-                x0,
-                y0,
-                z0,
-                e.outcome.name(),
-                e.x_m,
-                e.y_m,
-                e.runout_m,
-                e.max_velocity_ms,
-                e.max_jump_height_m,
-                e.tree_impacts,
-                e.stems_broken,
-                e.rebounds,
-                e.time_s
-            )
-            .map_err(io)?;
-        }
-        Ok(())
+    write_csv(path, ROCKS_HEADER, records, |w, r| {
+        let [x0, y0, z0] = r.start_m;
+        let e = &r.end;
+        writeln!(
+            w,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            r.rock_id,
+            r.source_cell,
+            x0,
+            y0,
+            z0,
+            e.outcome.name(),
+            e.x_m,
+            e.y_m,
+            e.runout_m,
+            e.max_velocity_ms,
+            e.max_jump_height_m,
+            e.tree_impacts,
+            e.stems_broken,
+            e.rebounds,
+            e.time_s
+        )
     })
 }
 

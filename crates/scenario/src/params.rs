@@ -45,16 +45,28 @@ pub enum MohMode {
     Mean,
 }
 
+impl MohMode {
+    /// The name used in scenario files: `draw` or `mean`.
+    pub fn name(self) -> &'static str {
+        match self {
+            MohMode::Draw => "draw",
+            MohMode::Mean => "mean",
+        }
+    }
+}
+
 impl FromStr for MohMode {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s.to_ascii_lowercase().as_str() {
-            "draw" => Ok(MohMode::Draw),
-            "mean" => Ok(MohMode::Mean),
-            other => Err(format!(
-                "unknown moh mode `{other}` (expected draw or mean)"
-            )),
-        }
+        [MohMode::Draw, MohMode::Mean]
+            .into_iter()
+            .find(|m| m.name().eq_ignore_ascii_case(s))
+            .ok_or_else(|| {
+                format!(
+                    "unknown moh mode `{}` (expected draw or mean)",
+                    s.to_ascii_lowercase()
+                )
+            })
     }
 }
 
