@@ -200,6 +200,22 @@ impl Stat {
     pub(crate) fn percentile(&self, p: f64) -> Option<f64> {
         self.axis.percentile(&self.hist, p, self.max)
     }
+
+    /// The histogram as its non-empty bins `(lo, hi, count)`, ascending: the underflow bin is
+    /// `[0, lo)` (0 included), a log bin `[edge, next edge)`, the overflow bin `[top, max]`
+    /// (of zero width should the maximum be the top edge itself).
+    pub(crate) fn bins(&self) -> Vec<(f64, f64, u64)> {
+        let edges = &self.axis.edges;
+        let top = edges[edges.len() - 1];
+        (self.hist.iter().enumerate())
+            .filter(|&(_, &c)| c > 0)
+            .map(|(i, &c)| {
+                let lo = if i == 0 { 0.0 } else { edges[i - 1] };
+                let hi = edges.get(i).copied().unwrap_or(top.max(self.max));
+                (lo, hi, c)
+            })
+            .collect()
+    }
 }
 
 #[cfg(test)]
@@ -286,5 +302,29 @@ mod tests {
         assert_eq!(a.bin(VALUE_CAP), a.len() - 1);
         assert_eq!(fixed(1.5, LENGTH_SCALE), 1_500_000);
         assert_eq!(fixed(f64::INFINITY, ENERGY_SCALE), 1e15 as u64);
+    }
+
+    #[test]
+    fn bins_hold_every_value_inside_their_edges() {
+        let mut s = Stat::new(&SHORT_AXIS, LENGTH_SCALE);
+        let values = [0.0, 5e-4, 0.5, 0.52, 7.0, 7.0, 999.0, 2500.0];
+        for v in values {
+            s.add(v);
+        }
+        let bins = s.bins();
+        assert_eq!(bins.iter().map(|b| b.2).sum::<u64>(), values.len() as u64);
+        assert!(bins.windows(2).all(|w| w[0].1 <= w[1].0), "{bins:?}");
+        for v in values {
+            let inside = |b: &&(f64, f64, u64)| b.0 <= v && (v < b.1 || v == 2500.0 && v == b.1);
+            assert!(
+                bins.iter().find(inside).is_some(),
+                "{v} in no bin of {bins:?}"
+            );
+        }
+        assert_eq!(bins[0], (0.0, 1e-3, 2));
+        assert_eq!(bins.last().copied(), Some((1e3, 2500.0, 1)));
+        let twin = bins.iter().find(|b| b.0 <= 7.0 && 7.0 < b.1).unwrap();
+        assert_eq!(twin.2, 2);
+        assert!(twin.1 / twin.0 < 1.08);
     }
 }

@@ -11,6 +11,7 @@
 //! `summary.json`, `trajectories.csv` and, on request ([`Layout::rock_ends`]), `rocks.csv`
 //! (one [`RockRecord`] per rock); [`Results::write`] writes them atomically.
 //! [`ForestEffect`] compares a run with the forest to the same run without it.
+//! [`Results::distribution`] and [`Results::speed_profile`] give what the report plots.
 //! [`ScreenSet`] finds where a rock's plan-view path crosses the evaluation screens.
 //!
 //! # Statistics and their accuracy
@@ -34,23 +35,28 @@
 //! visited, its energy and passing-height histograms ((322 + 194) × 4 = 2 064 bytes, one
 //! heap block) and 4 bytes per distinct source cell that reached it: ≈ 2.2–2.4 kB per
 //! visited cell, whatever the number of rocks. Per-screen and per-rock statistics are a few
-//! kB in all. Only the recorded trajectories (rocks with `rock_id < Layout::trajectories`)
+//! kB in all; the speed profile ([`Results::speed_profile`]) 4 kB per distance bin of one
+//! cell reached (at most 2000 bins, 8 MB). Only the recorded trajectories (rocks with `rock_id < Layout::trajectories`)
 //! and, when [`Layout::rock_ends`] is set, the per-rock records (one [`RockRecord`], 120
 //! bytes, per rock) grow with the number of rocks.
 
 mod cells;
+mod distribution;
 mod forest_effect;
 mod hist;
 mod parallel;
+mod profile;
 mod results;
 mod screens;
 mod summary;
 mod tally;
 mod write;
 
+pub use distribution::{Bin, Distribution, Quantity};
 pub use forest_effect::ForestEffect;
 pub use hist::PERCENTILE_RELATIVE_ERROR;
 pub use parallel::{PoolError, RockNumbering, RunOptions, run_rocks};
+pub use profile::ProfileBin;
 pub use results::{Results, RunInfo};
 pub use screens::ScreenSet;
 pub use tally::Tally;
@@ -213,6 +219,20 @@ pub enum Event {
     Tree,
     /// Final state.
     Stop,
+}
+
+impl Event {
+    /// The word of `trajectories.csv`'s `event` column: `flight`, `impact`, `roll`, `tree`,
+    /// `stop`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Event::Flight => "flight",
+            Event::Impact => "impact",
+            Event::Roll => "roll",
+            Event::Tree => "tree",
+            Event::Stop => "stop",
+        }
+    }
 }
 
 /// One recorded state of a trajectory (`trajectories.csv`, columns as in `product.md`).

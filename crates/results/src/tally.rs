@@ -4,6 +4,7 @@ use std::sync::Arc;
 
 use crate::cells::CellTable;
 use crate::hist::{LENGTH_SCALE, LONG_AXIS, SHORT_AXIS, Stat};
+use crate::profile::SpeedProfile;
 use crate::screens::ScreenStats;
 use crate::{
     CellVisit, Layout, Outcome, RockEnd, RockRecord, RockStart, ScreenCrossing, TrajectoryRow,
@@ -113,6 +114,8 @@ pub struct Tally {
     pub(crate) cells: CellTable,
     pub(crate) screens: Vec<ScreenStats>,
     pub(crate) rock: RockStats,
+    /// Speeds of the cell visits by distance from release.
+    pub(crate) profile: SpeedProfile,
     /// (rock id, sequence number within the rock, row) of recorded rocks.
     pub(crate) rows: Vec<(u64, u64, TrajectoryRow)>,
     /// One record per ended rock, in the order they ended (only when `layout.rock_ends`).
@@ -128,6 +131,7 @@ impl Tally {
                 .map(|_| ScreenStats::new())
                 .collect(),
             rock: RockStats::new(),
+            profile: SpeedProfile::new(&layout),
             current: None,
             rows: Vec::new(),
             rock_records: Vec::new(),
@@ -179,6 +183,12 @@ impl Tally {
     pub fn cell_visit(&mut self, cell: usize, visit: CellVisit) {
         if let Some(c) = self.active() {
             self.cells.visit(cell, c.key, c.source, &visit);
+            let g = &self.layout.geometry;
+            let (row, col) = g.row_col(cell);
+            let (x, y) = g.cell_center(row, col);
+            let (dx, dy) = (x - c.start.x_m, y - c.start.y_m);
+            let distance_m = (dx * dx + dy * dy).sqrt();
+            self.profile.add(distance_m, visit.velocity_ms);
         }
     }
 
@@ -236,6 +246,7 @@ impl Tally {
             a.merge(b);
         }
         self.rock.merge(&other.rock);
+        self.profile.merge(&other.profile);
         self.rows.extend(other.rows);
         self.rock_records.extend(other.rock_records);
     }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use rockfall_raster::{Grid, RasterError, SampleType, atomic, write_grid};
 
-use crate::{Event, Results, RockRecord, TrajectoryRow};
+use crate::{Results, RockRecord, TrajectoryRow};
 
 /// Header of `trajectories.csv` (a contract, see `product.md`).
 pub const TRAJECTORY_HEADER: &str =
@@ -88,16 +88,6 @@ pub fn write_json(path: &Path, value: &serde_json::Value) -> Result<(), ResultsE
     atomic::write_bytes_atomic(path, text.as_bytes()).map_err(ResultsError::from)
 }
 
-fn event_name(e: Event) -> &'static str {
-    match e {
-        Event::Flight => "flight",
-        Event::Impact => "impact",
-        Event::Roll => "roll",
-        Event::Tree => "tree",
-        Event::Stop => "stop",
-    }
-}
-
 /// Writes a CSV file atomically: `header`, then one line per row by `line`.
 fn write_csv<T>(
     path: &Path,
@@ -138,7 +128,7 @@ pub(crate) fn write_trajectories(path: &Path, rows: &[TrajectoryRow]) -> Result<
             r.wz_rads,
             r.e_trans_j,
             r.e_rot_j,
-            event_name(r.event)
+            r.event.name()
         )
     })
 }

@@ -60,6 +60,22 @@ fn assert_identical(a: &Results, b: &Results) {
             .collect()
     };
     assert_eq!(bits(a), bits(b));
+    let profile = |r: &Results| -> Vec<[u64; 5]> {
+        (r.speed_profile().iter())
+            .map(|p| {
+                let f = |v: f64| v.to_bits();
+                [
+                    f(p.from_m),
+                    p.visits,
+                    f(p.median_ms),
+                    f(p.p95_ms),
+                    f(p.max_ms),
+                ]
+            })
+            .collect()
+    };
+    assert!(!profile(a).is_empty(), "the speed profile must hold visits");
+    assert_eq!(profile(a), profile(b));
 }
 
 #[test]
