@@ -279,6 +279,7 @@ pub fn plan_view(path: &Path, runs: &[SlopeRun]) -> Result<(), LabError> {
         min: LOG_FLOOR_KJ,
         max: top_kj.max(10.0 * LOG_FLOOR_KJ),
         log: true,
+        ramp: rockfall_plot::Ramp::Viridis,
     };
     let title = "Trajectories coloured by total energy (cf. seed 001 fig. 6)";
     colored_lines_panels(path, title, &axes, &scale, &panels)

@@ -5,9 +5,9 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::font::{LABEL_SIZE, TICK_SIZE, font};
 use crate::layout::Area;
-use crate::palette::{colormap, rgb};
+use crate::palette::rgb;
 use crate::range::{Span, format_tick, log_ticks, nice_ticks};
-use crate::{ColorScale, PlotError};
+use crate::{ColorScale, PlotError, Ramp};
 
 /// Left edge (px) of the bar within its strip.
 const BAR_LEFT: i32 = 14;
@@ -19,27 +19,38 @@ const TICK_LENGTH: i32 = 6;
 const LABEL_INSET: i32 = 22;
 
 /// A validated [`ColorScale`], in the units colours are interpolated in (`log10` for a log
-/// scale).
+/// scale), with its ramp.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct ValueScale {
     /// The scale's extent, in interpolation units.
     span: Span,
     /// Whether values are mapped through `log10`.
     log: bool,
+    /// The colour ramp.
+    pub ramp: Ramp,
 }
 
 impl ValueScale {
     /// Checks a [`ColorScale`]: finite `min < max`, and `min > 0` on a log scale.
     pub fn new(scale: &ColorScale) -> Result<Self, PlotError> {
         let span = Span::checked("colour scale", (scale.min, scale.max))?;
+        let ramp = scale.ramp;
         if !scale.log {
-            return Ok(Self { span, log: false });
+            return Ok(Self {
+                span,
+                log: false,
+                ramp,
+            });
         }
         if scale.min <= 0.0 {
             return Err(PlotError::LogScaleNotPositive { min: scale.min });
         }
         let span = Span::checked("colour scale", (scale.min.log10(), scale.max.log10()))?;
-        Ok(Self { span, log: true })
+        Ok(Self {
+            span,
+            log: true,
+            ramp,
+        })
     }
 
     /// Where `value` falls on the scale, clamped to `[0, 1]`; `None` if it is not finite.
@@ -53,6 +64,11 @@ impl ValueScale {
             (true, false) => self.span.lo,
         };
         Some(((v - self.span.lo) / self.span.width()).clamp(0.0, 1.0))
+    }
+
+    /// The colour of `value` on the scale's ramp; `None` if it is not finite.
+    pub fn color(&self, value: f64) -> Option<(u8, u8, u8)> {
+        self.fraction(value).map(|f| self.ramp.at(f))
     }
 
     /// Tick positions as fractions of the scale, with their labels.
@@ -74,8 +90,8 @@ impl ValueScale {
     }
 }
 
-/// Draws the colour bar of `scale` in `strip`, spanning pixel rows `rows` (top, bottom
-/// exclusive) so that it lines up with the plotting windows, with ticks and `label`.
+/// Draws the colour bar of `scale`, in its ramp, in `strip`, spanning pixel rows `rows` (top,
+/// bottom exclusive) so that it lines up with the plotting windows, with ticks and `label`.
 pub(crate) fn draw_color_bar(
     strip: &Area<'_>,
     scale: &ValueScale,
@@ -87,7 +103,7 @@ pub(crate) fn draw_color_bar(
     for y in top..bottom {
         let f = f64::from(bottom - 1 - y) / f64::from((bottom - 1 - top).max(1));
         let row = vec![(BAR_LEFT, y), (right, y)];
-        strip.draw(&PathElement::new(row, rgb(colormap(f))))?;
+        strip.draw(&PathElement::new(row, rgb(scale.ramp.at(f))))?;
     }
     let frame = [(BAR_LEFT - 1, top - 1), (right + 1, bottom)];
     strip.draw(&Rectangle::new(frame, BLACK))?;
@@ -125,6 +141,7 @@ mod tests {
             min,
             max,
             log,
+            ramp: Ramp::Viridis,
         }
     }
 

@@ -37,7 +37,8 @@ pub enum PlotError {
     /// A range (axis or colour scale) is not finite with `lo < hi`.
     #[error("invalid {what} ({lo}, {hi}): needs finite lo < hi")]
     InvalidRange {
-        /// Which range: `"x range"`, `"y range"` or `"colour scale"`.
+        /// Which range: `"x range"`, `"y range"`, `"colour scale"`, `"map x extent"` or
+        /// `"map y extent"`.
         what: &'static str,
         /// Low end as given.
         lo: f64,
@@ -49,6 +50,12 @@ pub enum PlotError {
     LogScaleNotPositive {
         /// The scale's minimum as given.
         min: f64,
+    },
+    /// A map's release cells need a finite, positive cell size.
+    #[error("invalid release cell size {cell_size_m} m: needs finite and > 0")]
+    InvalidCellSize {
+        /// The cell size as given (m).
+        cell_size_m: f64,
     },
     /// A polyline has not one value per point.
     #[error(

@@ -1,5 +1,6 @@
 //! PNG figures for the project: line and scatter panels, plan views of value-coloured
-//! polylines with a colour bar, and histograms.
+//! polylines with a colour bar, histograms, and hazard maps (a raster under vector overlays).
+//! Value colours come from a [`Ramp`] (viridis by default).
 //!
 //! Every function renders into an in-memory RGB buffer, encodes the PNG in memory and writes it
 //! atomically (a temporary file in the target's folder, renamed over the target): on error
@@ -15,6 +16,11 @@
 //! - [`colored_lines_panels`]: [`MAP_PANEL_HEIGHT`] + [`FIGURE_TITLE_HEIGHT`] high; each panel
 //!   as wide as the data aspect requires (see [`colored_lines_panels`]), plus a
 //!   [`COLOR_BAR_WIDTH`] colour-bar strip on the right.
+//! - [`raster_map`]: an equal-aspect plotting window, as large as fits in
+//!   [`MAP_PLOT_MAX_WIDTH`] × [`MAP_PLOT_MAX_HEIGHT`] with each side at least
+//!   [`MAP_PLOT_MIN_SIZE`]; the figure is the window + 112 px wide (axes and margins) plus a
+//!   [`COLOR_BAR_WIDTH`] colour-bar strip (40 px without a colour bar), and the window + 130 px
+//!   high (title band, axes and margins). The size is returned in [`MapDrawn`].
 //!
 //! ```no_run
 //! use rockfall_plot::{line_panels, Axes, Panel, Series};
@@ -34,7 +40,11 @@ mod font;
 mod histogram;
 mod layout;
 mod map;
+mod map_figure;
+mod map_overlay;
+mod map_raster;
 mod palette;
+mod ramp;
 mod range;
 mod write;
 mod xy;
@@ -43,7 +53,13 @@ pub use error::PlotError;
 pub use histogram::{HISTOGRAM_SIZE, histogram};
 pub use layout::{FIGURE_TITLE_HEIGHT, PANEL_HEIGHT, PANEL_WIDTH};
 pub use map::{COLOR_BAR_WIDTH, MAP_PANEL_HEIGHT, colored_lines_panels};
+pub use map_figure::{
+    MAP_PLOT_MAX_HEIGHT, MAP_PLOT_MAX_WIDTH, MAP_PLOT_MIN_SIZE, MIN_STEM_SPACING_PX, MapDrawn,
+    MapFigure, MapLine, map_metres_per_px, raster_map,
+};
+pub use map_overlay::scale_bar_length_m;
 pub use palette::{colormap, series_color};
+pub use ramp::Ramp;
 pub use xy::{line_panels, scatter_panels};
 
 /// One curve or point set.
@@ -121,6 +137,17 @@ pub struct ColorScale {
     pub max: f64,
     /// Colour by `log10(value)`, with colour-bar ticks at decades.
     pub log: bool,
+    /// The colour ramp from `min` to `max` (viridis by default).
+    pub ramp: Ramp,
+}
+
+impl ColorScale {
+    /// The colour the colour bar gives `value`: values outside the scale take its ends; a
+    /// log scale colours by `log10(value)` (values `<= 0` take the low end). `None` for a
+    /// non-finite value or an invalid scale (see [`ColorScale::min`]).
+    pub fn color_of(&self, value: f64) -> Option<(u8, u8, u8)> {
+        colorbar::ValueScale::new(self).ok()?.color(value)
+    }
 }
 
 /// One set of histogram bars.

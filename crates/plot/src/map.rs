@@ -10,7 +10,7 @@ use crate::layout::{
     CHART_MARGIN, Chart, FIGURE_TITLE_HEIGHT, PANEL_TITLE_HEIGHT, Y_LABEL_AREA, figure_body,
     panel_chart, panels_in_row, plot_size,
 };
-use crate::palette::{colormap, rgb};
+use crate::palette::rgb;
 use crate::range::fit;
 use crate::write::render_png;
 use crate::{Axes, ColorScale, LinePanel, PlotError, Polyline};
@@ -30,8 +30,8 @@ const LINE_WIDTH: u32 = 2;
 
 /// Plan view: `panels` side by side under `title`, sharing the x/y ranges of `axes` (fitted to
 /// all finite points when `None`) with equal aspect (1 m in x takes as many pixels as 1 m in
-/// y), each polyline segment coloured by the viridis colour map ([`crate::colormap`]) over
-/// `scale`, and one colour bar on the right with ticks and `scale.label`.
+/// y), each polyline segment coloured by `scale.ramp` (viridis by default, [`crate::colormap`])
+/// over `scale`, and one colour bar in the same ramp on the right with ticks and `scale.label`.
 ///
 /// Size: each panel is [`MAP_PANEL_HEIGHT`] px high, its plotting window 784 px high and
 /// `784·Δx/Δy` px wide, clamped to 240–1500 px (the shorter range is then widened about its
@@ -132,9 +132,9 @@ fn draw_polyline(
         .windows(2)
         .zip(&line.values)
         .filter_map(|(pair, &value)| {
-            let f = scale.fraction(value)?;
+            let colour = scale.color(value)?;
             let (a, b) = window.clip_segment(pair_point(pair[0]), pair_point(pair[1]))?;
-            let style = rgb(colormap(f)).stroke_width(LINE_WIDTH);
+            let style = rgb(colour).stroke_width(LINE_WIDTH);
             Some(PathElement::new(vec![a, b], style))
         });
     chart.draw_series(segments)?;

@@ -1,9 +1,8 @@
-//! Colours: the series palette (Okabe–Ito) and the value colour map (viridis).
+//! Colours: the series palette (Okabe–Ito) and the default value colour map (viridis).
 
-use std::sync::OnceLock;
-
-use colorgrad::Gradient;
 use plotters::style::RGBColor;
+
+use crate::Ramp;
 
 /// The Okabe–Ito colour-blind-safe palette (Okabe & Ito 2008), ordered so that the first
 /// colours contrast most on white; black, the colour of axes and text, comes last.
@@ -26,27 +25,11 @@ pub fn series_color(i: usize) -> (u8, u8, u8) {
 }
 
 /// The viridis colour map at `t` in `[0, 1]` (clamped; NaN gives the low end) as `(r, g, b)`:
-/// the colour [`crate::colored_lines_panels`] gives to a value at fraction `t` of its scale.
-/// The map is sampled at this many evenly spaced points, computed once.
+/// [`Ramp::Viridis`]`.at(t)`, the colour of a value at fraction `t` of a [`crate::ColorScale`]
+/// with the default ramp.
 pub fn colormap(t: f64) -> (u8, u8, u8) {
-    static TABLE: OnceLock<Vec<(u8, u8, u8)>> = OnceLock::new();
-    let table = TABLE.get_or_init(|| {
-        let viridis = colorgrad::preset::viridis();
-        (0..COLORMAP_STEPS)
-            .map(|i| i as f32 / (COLORMAP_STEPS - 1) as f32)
-            .map(|t| {
-                let [r, g, b, _] = viridis.at(t).to_rgba8();
-                (r, g, b)
-            })
-            .collect()
-    });
-    let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
-    let i = (t * (COLORMAP_STEPS - 1) as f64).round() as usize;
-    table.get(i).copied().unwrap_or_default()
+    Ramp::Viridis.at(t)
 }
-
-/// Number of precomputed colours of [`colormap`].
-const COLORMAP_STEPS: usize = 1024;
 
 /// [`series_color`] as a plotters colour.
 pub(crate) fn series_rgb(i: usize) -> RGBColor {

@@ -7,7 +7,7 @@ mod common;
 use common::{count_exact, count_near, dark_pixels_in_band, decode};
 use rockfall_plot::{
     Axes, COLOR_BAR_WIDTH, ColorScale, FIGURE_TITLE_HEIGHT, LinePanel, MAP_PANEL_HEIGHT, PlotError,
-    Polyline, colored_lines_panels, colormap,
+    Polyline, Ramp, colored_lines_panels, colormap,
 };
 
 fn scale(min: f64, max: f64, log: bool) -> ColorScale {
@@ -16,6 +16,7 @@ fn scale(min: f64, max: f64, log: bool) -> ColorScale {
         min,
         max,
         log,
+        ramp: Ramp::Viridis,
     }
 }
 
@@ -78,6 +79,26 @@ fn size_follows_the_data_aspect_and_the_bar_shows_both_viridis_ends() {
         dark_pixels_in_band(&img, 0, FIGURE_TITLE_HEIGHT) > 50,
         "title text rendered"
     );
+}
+
+#[test]
+fn lines_and_colour_bar_use_the_scale_ramp() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("ramp.png");
+    let diverging = ColorScale {
+        ramp: Ramp::Diverging,
+        ..scale(0.0, 10.0, false)
+    };
+    let panels = [panel("p", 10.0)];
+    colored_lines_panels(&path, "t", &Axes::default(), &diverging, &panels).unwrap();
+    let img = decode(&path);
+    let n = count_near(&img, Ramp::Diverging.at(1.0), 0, panels_region(&img));
+    assert!(n > 500, "lines in the diverging high end: {n}");
+    for end in [Ramp::Diverging.at(0.0), Ramp::Diverging.at(0.5)] {
+        let n = count_exact(&img, end);
+        assert!(n >= 20, "bar shows {end:?} {n} times");
+    }
+    assert_eq!(count_exact(&img, colormap(1.0)), 0, "no viridis");
 }
 
 #[test]
