@@ -25,7 +25,8 @@ pub struct Cli {
 pub enum Command {
     /// Build the embedded demo site (vaujany-site2), run it with and without its forest, and
     /// write every output: the forested run in OUT, the bare run in OUT/without_forest, the
-    /// forest's protective effect (Forest_effect_*.tif, forest_effect.json) in OUT.
+    /// forest's protective effect (Forest_effect_*.tif, forest_effect.json) in OUT. Open
+    /// OUT/report.html in a browser (offline): maps, plots and every number of both runs.
     Demo {
         /// Output folder (created if needed).
         #[arg(long, default_value = "rockfall-demo")]
@@ -34,7 +35,10 @@ pub enum Command {
     /// Simulate rocks on an input: a scenario file (*.toml) or a Rockyfor3D input folder.
     /// Writes the hazard rasters (GeoTIFF: Nr_passages, Reach_probability, Nr_deposited,
     /// Nr_sourcecells, E_mean and E_<percentile> in kJ, Ph_mean and Ph_95 in m, V_max in m/s,
-    /// Nr_tree_impacts, Tree_impact_height_max in m), summary.json and trajectories.csv.
+    /// Nr_tree_impacts, Tree_impact_height_max in m) each with a QGIS style (.qml),
+    /// summary.json, trajectories.csv and .geojson, and report.html: an offline page with the
+    /// maps (report/map_*.png, over the hillshade), distribution and profile plots, and every
+    /// number of the run.
     Run {
         /// Scenario file or Rockyfor3D input folder.
         input: PathBuf,

@@ -49,7 +49,8 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             let threads = simulate::threads(threads);
             let forest = (!forest.is_empty()).then_some(&forest);
             let results = simulate::simulate(&scenario, forest, threads, "simulating")?;
-            simulate::write(&results, &out, ascii)?;
+            let ctx = simulate::Context::new(&scenario, forest, input.display().to_string());
+            simulate::write(&results, &out, ascii, &ctx)?;
             simulate::print_summary(&format!("{}:", scenario.name), &results);
             Ok(())
         }

@@ -174,6 +174,10 @@ pub fn run_shape_study(flags: &StudyFlags, out: &Path) -> Result<(Study, Vec<Slo
             (s, f)
         }
     };
+    let input_name = flags.input.as_ref().map_or_else(
+        || "built-in site forest-slope-40 (rockfall shape-study)".to_owned(),
+        |p| p.display().to_string(),
+    );
     base.engine = Engine::Rigid;
     base.seed = flags.seed.unwrap_or(base.seed);
     base.simulation.rocks_per_point = flags.rocks;
@@ -188,7 +192,11 @@ pub fn run_shape_study(flags: &StudyFlags, out: &Path) -> Result<(Study, Vec<Slo
     for (label, sc) in &scenarios {
         let results = simulate::simulate(sc, forest, threads, label)?;
         simulate::print_summary(&format!("{label}:"), &results);
-        simulate::write(&results, &out.join(label), false)?;
+        let ctx = simulate::Context {
+            label: format!("shape {label}"),
+            ..simulate::Context::new(sc, forest, input_name.clone())
+        };
+        simulate::write(&results, &out.join(label), false, &ctx)?;
         runs.push(SlopeRun::new(label, &results));
     }
     let study = write_study(out, &runs, &line).map_err(failure)?;

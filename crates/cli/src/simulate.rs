@@ -6,12 +6,13 @@ use anyhow::anyhow;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rockfall_forest::Forest;
 use rockfall_lumped::{LumpedModel, RunOptions};
+use rockfall_report::ReportInput;
 use rockfall_results::{ForestEffect, Layout, Results, RunInfo};
 use rockfall_rigid::RigidModel;
 use rockfall_scenario::{Engine, Scenario};
 use serde_json::{Value, json};
 use std::io::IsTerminal;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -169,12 +170,73 @@ pub fn progress_bar(total: u64, label: &str, unit: &str) -> ProgressBar {
     bar
 }
 
-/// Writes `results` into `out` and prints where.
-pub fn write(results: &Results, out: &Path, ascii: bool) -> Result<(), Failure> {
-    let files = results
+/// What a run's report says beside its results.
+pub struct Context<'a> {
+    /// The scenario simulated.
+    pub scenario: &'a Scenario,
+    /// The forest simulated, if any.
+    pub forest: Option<&'a Forest>,
+    /// What was read: a file, a folder, a built-in site.
+    pub input: String,
+    /// Words added to the report's title ("with forest"); may be empty.
+    pub label: String,
+    /// Links to related reports: (label, path relative to the output folder).
+    pub links: Vec<(String, String)>,
+    /// The forest's effect, mapped in the report (the demo).
+    pub forest_effect: Option<&'a ForestEffect>,
+    /// Files already written into the output folder, listed in the report.
+    pub files: Vec<PathBuf>,
+}
+
+impl<'a> Context<'a> {
+    /// The context of a run of `scenario` with `forest`, read from `input`.
+    pub fn new(scenario: &'a Scenario, forest: Option<&'a Forest>, input: String) -> Self {
+        Context {
+            scenario,
+            forest,
+            input,
+            label: String::new(),
+            links: Vec::new(),
+            forest_effect: None,
+            files: Vec::new(),
+        }
+    }
+}
+
+/// The command line, for reports.
+pub fn command_line() -> String {
+    std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Writes `results` into `out` with the report and GIS files, and prints where.
+pub fn write(results: &Results, out: &Path, ascii: bool, ctx: &Context<'_>) -> Result<(), Failure> {
+    let mut files = results
         .write(out, ascii)
         .map_err(|e| Failure::Internal(e.into()))?;
-    println!("wrote {} files to {}", files.len(), out.display());
+    let mut listed = ctx.files.clone();
+    listed.extend(files.iter().cloned());
+    let input = ReportInput {
+        scenario: ctx.scenario,
+        results,
+        stems: ctx.forest.map_or(&[], |f| f.stems()),
+        input: ctx.input.clone(),
+        command: command_line(),
+        files: listed,
+        forest_effect: ctx.forest_effect,
+        links: ctx.links.clone(),
+        label: ctx.label.clone(),
+    };
+    let report = rockfall_report::write(out, &input).map_err(|e| Failure::Internal(e.into()))?;
+    files.extend(report);
+    println!(
+        "wrote {} files to {} (open {})",
+        files.len() + ctx.files.len(),
+        out.display(),
+        out.join("report.html").display()
+    );
     Ok(())
 }
 
@@ -246,14 +308,27 @@ pub fn demo(out: &Path) -> Result<(), Failure> {
     );
     let ascii = scenario.output.ascii_rasters;
     let with = simulate(&scenario, Some(&forest), threads, "with forest")?;
-    write(&with, out, ascii)?;
     let without = simulate(&scenario, None, threads, "without forest")?;
-    let bare = out.join("without_forest");
-    write(&without, &bare, ascii)?;
     let effect = ForestEffect::new(&with, &without);
-    effect
+    let effect_files = effect
         .write(out, ascii)
         .map_err(|e| Failure::Internal(e.into()))?;
+    let input = format!("built-in site {} (rockfall demo)", scenario.name);
+    let ctx = Context {
+        label: "with forest".into(),
+        links: vec![("Without forest".into(), "without_forest/report.html".into())],
+        forest_effect: Some(&effect),
+        files: effect_files,
+        ..Context::new(&scenario, Some(&forest), input.clone())
+    };
+    write(&with, out, ascii, &ctx)?;
+    let bare = out.join("without_forest");
+    let ctx = Context {
+        label: "without forest".into(),
+        links: vec![("With forest".into(), "../report.html".into())],
+        ..Context::new(&scenario, None, input)
+    };
+    write(&without, &bare, ascii, &ctx)?;
     print_summary("with forest:", &with);
     print_summary("without forest:", &without);
     print_effect(&effect.summary_json());
@@ -263,6 +338,7 @@ pub fn demo(out: &Path) -> Result<(), Failure> {
         bare.display(),
         out.join("forest_effect.json").display()
     );
+    println!("report: {}", out.join("report.html").display());
     Ok(())
 }
 

@@ -145,7 +145,14 @@ fn vaujany_cases(
         .map_err(|e| Failure::Internal(e.into()))?;
     let forest = (!forest.is_empty()).then_some(&forest);
     let results = simulate::simulate(&scenario, forest, threads, name)?;
-    simulate::write(&results, &out.join(name), false)?;
+    let input =
+        format!("built-in site {name}, cut where the experiments observed (rockfall validate)");
+    simulate::write(
+        &results,
+        &out.join(name),
+        false,
+        &simulate::Context::new(&scenario, forest, input),
+    )?;
     let summary = results.summary_json();
     let records = results.rock_records();
     let site_published: Vec<_> = published().into_iter().filter(|p| p.site == name).collect();
