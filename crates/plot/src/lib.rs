@@ -60,6 +60,7 @@ pub use map_figure::{
 pub use map_overlay::scale_bar_length_m;
 pub use palette::{colormap, series_color};
 pub use ramp::Ramp;
+pub use range::nice_step;
 pub use xy::{line_panels, scatter_panels};
 
 /// One curve or point set.
@@ -142,11 +143,32 @@ pub struct ColorScale {
 }
 
 impl ColorScale {
-    /// The colour the colour bar gives `value`: values outside the scale take its ends; a
-    /// log scale colours by `log10(value)` (values `<= 0` take the low end). `None` for a
-    /// non-finite value or an invalid scale (see [`ColorScale::min`]).
+    /// The colour the colour bar gives `value` (see [`ColorMapper::color`]); `None` for a
+    /// non-finite value or an invalid scale (see [`ColorScale::min`]). To colour many values,
+    /// check the scale once with [`ColorScale::mapper`].
     pub fn color_of(&self, value: f64) -> Option<(u8, u8, u8)> {
-        colorbar::ValueScale::new(self).ok()?.color(value)
+        self.mapper().ok()?.color(value)
+    }
+
+    /// The scale, checked once, as a value-to-colour map.
+    ///
+    /// # Errors
+    /// [`PlotError::InvalidRange`] unless `min < max`, both finite;
+    /// [`PlotError::LogScaleNotPositive`] for a log scale with `min <= 0`.
+    pub fn mapper(&self) -> Result<ColorMapper, PlotError> {
+        colorbar::ValueScale::new(self).map(ColorMapper)
+    }
+}
+
+/// A checked [`ColorScale`]: colours values as its colour bar does.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ColorMapper(colorbar::ValueScale);
+
+impl ColorMapper {
+    /// The colour of `value`: values outside the scale take its ends; a log scale colours by
+    /// `log10(value)` (values `<= 0` take the low end); `None` for a non-finite value.
+    pub fn color(&self, value: f64) -> Option<(u8, u8, u8)> {
+        self.0.color(value)
     }
 }
 

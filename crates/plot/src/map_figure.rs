@@ -126,7 +126,6 @@ pub fn raster_map(path: &Path, map: &MapFigure<'_>) -> Result<MapDrawn, PlotErro
     })
 }
 
-/// Checks the extent: finite with min < max in x and y.
 /// Metres per pixel of the plotting window [`raster_map`] lays out for `extent_m`
 /// (`[x_min_m, x_max_m, y_min_m, y_max_m]`), so that a fill can know a pixel's footprint.
 ///
@@ -136,6 +135,7 @@ pub fn map_metres_per_px(extent_m: [f64; 4]) -> Result<f64, PlotError> {
     Ok(MapGeometry::new(check_extent(extent_m)?).metres_per_px)
 }
 
+/// Checks the extent: finite with min < max in x and y.
 fn check_extent([x0, x1, y0, y1]: [f64; 4]) -> Result<Window, PlotError> {
     Ok(Window {
         x: Span::checked("map x extent", (x0, x1))?,

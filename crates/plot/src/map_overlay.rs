@@ -46,7 +46,7 @@ const ARROW_LENGTH_PX: i32 = 30;
 const LEGEND_ROW_PX: i32 = 22;
 /// Width (px) of a legend symbol.
 const LEGEND_SYMBOL_PX: i32 = 24;
-/// Width (px) of a line and of its white halo.
+/// Width (px) of a line.
 const LINE_WIDTH_PX: u32 = 2;
 /// Width (px) of a line's white halo.
 const HALO_WIDTH_PX: u32 = 4;
@@ -131,9 +131,9 @@ fn pixel((x, y): Point) -> (i32, i32) {
     (x.floor() as i32, y.floor() as i32)
 }
 
-/// Where the label `text` of a line goes: above, else below, its last visible vertex, else
-/// its first, the first of these boxes that overlaps no box in `placed` (the first one if
-/// all do). `None` for an empty label or a line not in view.
+/// Where the label `text` of a line goes: above its last visible vertex, else above its first,
+/// else below the last, else below the first: the first of these boxes that overlaps no box
+/// in `placed` (the first one if all do). `None` for an empty label or a line not in view.
 fn place_label(
     area: &Area<'_>,
     text: &str,
@@ -146,8 +146,12 @@ fn place_label(
     let style = text_style(TICK_SIZE, Pos::new(HPos::Left, VPos::Top));
     let (tw, th) = area.estimate_text_size(text, &style)?;
     let size = (tw as i32 + 2 * 3, th as i32 + 2 * 3);
-    let candidates: Vec<Rect> = (vertices.into_iter().flatten())
-        .flat_map(|v| [true, false].map(|above| label_box(area, size, v, above)))
+    let candidates: Vec<Rect> = [true, false]
+        .into_iter()
+        .flat_map(|above| {
+            let boxes = vertices.into_iter().flatten();
+            boxes.map(move |v| label_box(area, size, v, above))
+        })
         .collect();
     let free = |r: &Rect| !placed.iter().any(|p| overlaps(*r, *p));
     Ok(candidates
@@ -336,6 +340,65 @@ mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
     use plotters::prelude::{BitMapBackend, IntoDrawingArea};
+
+    /// A white 300 × 300 m map (780 × 780 px) with the overlays drawn on it.
+    fn overlays_on_white() -> (Raster, MapGeometry) {
+        use crate::clip::Window;
+        use crate::range::Span;
+        crate::font::ensure_font().unwrap();
+        let span = Span { lo: 0.0, hi: 300.0 };
+        let geo = MapGeometry::new(Window { x: span, y: span });
+        let mut raster = Raster::filled(&geo, &|_, _| Some((255, 255, 255)));
+        draw_overlays(&mut raster, &geo, &[], Present::default()).unwrap();
+        (raster, geo)
+    }
+
+    fn is_black(p: Option<(u8, u8, u8)>) -> bool {
+        p.is_some_and(|(r, g, b)| r < 60 && g < 60 && b < 60)
+    }
+
+    #[test]
+    fn the_scale_bar_is_as_long_as_its_label_says() {
+        let (raster, geo) = overlays_on_white();
+        let length_px = scale_bar_length_m(300.0) / geo.metres_per_px; // 100 m: 260 px
+        // The bar's row: black from its first segment's left edge to its outline's right edge.
+        let y = (geo.size_px.1 as i32 - INSET_PX - PAD_PX - SCALE_BAR_HEIGHT_PX / 2) as u32;
+        let black: Vec<u32> = (0..geo.size_px.0 / 2)
+            .filter(|&x| is_black(raster.get((x, y))))
+            .collect();
+        let (first, last) = (black[0], black[black.len() - 1]);
+        let drawn = f64::from(last - first);
+        assert!(
+            (drawn - length_px).abs() <= 2.0,
+            "{drawn} px drawn for {length_px} px"
+        );
+    }
+
+    #[test]
+    fn the_north_arrow_points_up() {
+        let (raster, geo) = overlays_on_white();
+        let (w, _) = geo.size_px;
+        let columns = (w - INSET_PX as u32 - 34)..(w - INSET_PX as u32);
+        // Widest black run per row inside the arrow's box, below the "N".
+        let width = |y: u32| {
+            columns
+                .clone()
+                .filter(|&x| is_black(raster.get((x, y))))
+                .count()
+        };
+        let rows: Vec<(u32, usize)> = (INSET_PX as u32 + 25..INSET_PX as u32 + 75)
+            .map(|y| (y, width(y)))
+            .filter(|&(_, n)| n > 0)
+            .collect();
+        // Pointing up: the head (widening rows) lies above its widest row, the thin shaft below.
+        let widest = (0..rows.len()).max_by_key(|&i| rows[i].1).unwrap();
+        let mean = |r: &[(u32, usize)]| r.iter().map(|x| x.1 as f64).sum::<f64>() / r.len() as f64;
+        let (above, below) = (mean(&rows[..widest]), mean(&rows[widest + 1..]));
+        assert!(
+            above > 1.5 * below,
+            "head above {above}, below {below}: {rows:?}"
+        );
+    }
 
     #[test]
     fn labels_of_close_lines_do_not_overlap() {

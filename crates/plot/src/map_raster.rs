@@ -177,6 +177,24 @@ mod tests {
     }
 
     #[test]
+    fn only_the_stems_in_the_window_count_for_the_spacing() {
+        let geo = square();
+        let mut raster = Raster::filled(&geo, &|_, _| Some((0, 0, 200)));
+        // 100 stems inside (spacing 78 px) and a dense stand of 100 000 outside the window.
+        let mut stems: Vec<[f64; 3]> = (0..100)
+            .map(|k| {
+                [
+                    5.0 + f64::from(k % 10) * 10.0,
+                    5.0 + f64::from(k / 10) * 10.0,
+                    0.2,
+                ]
+            })
+            .collect();
+        stems.extend((0..100_000).map(|k| [200.0 + f64::from(k % 300), 50.0, 0.2]));
+        assert!(draw_stems(&mut raster, &geo, &stems));
+    }
+
+    #[test]
     fn stems_are_green_dots_with_a_white_ring_and_skipped_when_dense() {
         let geo = square();
         let mut raster = Raster::filled(&geo, &|_, _| Some((0, 0, 200)));

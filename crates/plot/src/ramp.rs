@@ -13,12 +13,16 @@ pub enum Ramp {
     /// Viridis: dark purple through blue and green to yellow (perceptually uniform).
     #[default]
     Viridis,
-    /// Magma: black through purple and orange to light yellow.
+    /// Magma: dark purple through red and orange to light yellow (its near-black tenth left
+    /// out, lost over a hillshade).
     Magma,
     /// Cividis: dark blue through grey to yellow, readable with colour-vision deficiencies.
     Cividis,
-    /// Inferno: black through purple and red to light yellow.
+    /// Inferno: dark purple through red and orange to light yellow (its near-black tenth left
+    /// out).
     Inferno,
+    /// Plasma: blue through purple and orange to yellow.
+    Plasma,
     /// Diverging: ColorBrewer RdBu reversed — blue at the low end, near-white in the middle,
     /// red at the high end.
     Diverging,
@@ -26,11 +30,12 @@ pub enum Ramp {
 
 impl Ramp {
     /// Every ramp, in declaration order.
-    pub const ALL: [Ramp; 5] = [
+    pub const ALL: [Ramp; 6] = [
         Ramp::Viridis,
         Ramp::Magma,
         Ramp::Cividis,
         Ramp::Inferno,
+        Ramp::Plasma,
         Ramp::Diverging,
     ];
 
@@ -51,13 +56,15 @@ impl Ramp {
             Ramp::Magma => "magma",
             Ramp::Cividis => "cividis",
             Ramp::Inferno => "inferno",
+            Ramp::Plasma => "plasma",
             Ramp::Diverging => "diverging",
         }
     }
 
     /// The ramp's table, computed on first use.
     fn table(self) -> &'static [(u8, u8, u8)] {
-        static TABLES: [OnceLock<Vec<(u8, u8, u8)>>; 5] = [
+        static TABLES: [OnceLock<Vec<(u8, u8, u8)>>; 6] = [
+            OnceLock::new(),
             OnceLock::new(),
             OnceLock::new(),
             OnceLock::new(),
@@ -75,22 +82,28 @@ impl Ramp {
     fn sample(self) -> Vec<(u8, u8, u8)> {
         use colorgrad::preset;
         match self {
-            Ramp::Viridis => sample(&preset::viridis(), false),
-            Ramp::Magma => sample(&preset::magma(), false),
-            Ramp::Cividis => sample(&preset::cividis(), false),
-            Ramp::Inferno => sample(&preset::inferno(), false),
+            Ramp::Viridis => sample(&preset::viridis(), (0.0, 1.0)),
+            // Magma and inferno start from near black, which is lost over a hillshade: their
+            // darkest tenth is left out.
+            Ramp::Magma => sample(&preset::magma(), (DARK_CUT, 1.0)),
+            Ramp::Cividis => sample(&preset::cividis(), (0.0, 1.0)),
+            Ramp::Inferno => sample(&preset::inferno(), (DARK_CUT, 1.0)),
+            Ramp::Plasma => sample(&preset::plasma(), (0.0, 1.0)),
             // RdBu runs red to blue; reversed, low values are blue.
-            Ramp::Diverging => sample(&preset::rd_bu(), true),
+            Ramp::Diverging => sample(&preset::rd_bu(), (1.0, 0.0)),
         }
     }
 }
 
-/// `gradient` at [`RAMP_STEPS`] evenly spaced points of `[0, 1]`, from the high end down when
-/// `reversed`.
-fn sample(gradient: &dyn Gradient, reversed: bool) -> Vec<(u8, u8, u8)> {
+/// Part of magma's and inferno's dark end left out.
+const DARK_CUT: f32 = 0.1;
+
+/// `gradient` at [`RAMP_STEPS`] evenly spaced points from `from` to `to` (reversed when
+/// `from > to`).
+fn sample(gradient: &dyn Gradient, (from, to): (f32, f32)) -> Vec<(u8, u8, u8)> {
     (0..RAMP_STEPS)
         .map(|i| i as f32 / (RAMP_STEPS - 1) as f32)
-        .map(|t| if reversed { 1.0 - t } else { t })
+        .map(|t| from + t * (to - from))
         .map(|t| {
             let [r, g, b, _] = gradient.at(t).to_rgba8();
             (r, g, b)
@@ -124,15 +137,17 @@ mod tests {
     }
 
     #[test]
-    fn magma_and_inferno_start_near_black_and_names_are_distinct() {
+    fn magma_and_inferno_start_dark_but_not_black_and_names_are_distinct() {
         for ramp in [Ramp::Magma, Ramp::Inferno] {
             let (r, g, b) = ramp.at(0.0);
+            let sum = u32::from(r) + u32::from(g) + u32::from(b);
             assert!(
-                r < 20 && g < 20 && b < 30,
+                sum < 150 && sum > 40,
                 "{} low end {:?}",
                 ramp.name(),
                 (r, g, b)
             );
+            assert!(b > g, "{} starts purple: {:?}", ramp.name(), (r, g, b));
         }
         let (r, _, b) = Ramp::Cividis.at(0.0);
         assert!(

@@ -82,16 +82,24 @@ pub(crate) fn fit(
 
 /// About `target` "nice" tick positions (1, 2 or 5 × 10^k apart) inside `[lo, hi]`.
 pub(crate) fn nice_ticks(span: Span, target: usize) -> Vec<f64> {
-    let raw = span.width() / target.max(1) as f64;
-    let magnitude = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * magnitude)
-        .find(|s| *s >= raw)
-        .unwrap_or(10.0 * magnitude);
+    let step = nice_step(span.width() / target.max(1) as f64);
     let first = (span.lo / step).ceil() as i64;
     let last = (span.hi / step).floor() as i64;
     (first..=last).map(|k| k as f64 * step).collect()
+}
+
+/// The smallest round step, 1, 2 or 5 × 10^k, at least `raw` (`raw` finite and > 0; other
+/// values give NaN). Used for tick spacing and for bin widths.
+pub fn nice_step(raw: f64) -> f64 {
+    if !(raw.is_finite() && raw > 0.0) {
+        return f64::NAN;
+    }
+    let magnitude = 10f64.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * magnitude)
+        .find(|s| *s >= raw * (1.0 - 1e-12))
+        .unwrap_or(10.0 * magnitude)
 }
 
 /// Tick positions in `log10` units for a logarithmic scale over `span` (also `log10` units):
