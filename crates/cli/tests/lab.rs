@@ -204,6 +204,23 @@ fn shape_study_runs_each_shape_on_the_forest_slope() {
             .unwrap()
             .contains("cubic1.2")
     );
+    // each shape's run has its report, the rigid engine's trajectories in plan and profile,
+    // its release point drawn on the site map (a white-outlined square at the release)
+    let report = std::fs::read_to_string(out.join("long2.2/report.html")).unwrap();
+    assert!(report.contains("Trajectories in profile") && report.contains("1 release point(s)"));
+    for png in [
+        "trajectories_plan",
+        "trajectories_profile",
+        "map_site",
+        "velocity_profile",
+    ] {
+        assert!(
+            is_png(&out.join(format!("long2.2/report/{png}.png"))),
+            "{png}"
+        );
+    }
+    let geojson = json(&out.join("long2.2/trajectories.geojson"));
+    assert_eq!(geojson["features"].as_array().unwrap().len(), 2);
     // each shape's full run, every rock's path sampled every 0.05 s
     let summary = json(&out.join("long2.2/summary.json"));
     assert_eq!(summary["parameters"]["rock_shape"], "long2.2");

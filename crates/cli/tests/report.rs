@@ -19,17 +19,38 @@ use common::{ok, rockfall, s};
 /// vaujany-site2's grid: 60 × 142 cells of 2.5 m, upper-left corner (939350, 6460400).
 const GEO_TRANSFORM: [f64; 6] = [939_350.0, 2.5, 0.0, 6_460_400.0, 0.0, -2.5];
 
-/// The demo's output folder, written once for every test of this file.
+/// The demo's output folder, written once for every test of this file (under Cargo's
+/// temporary folder for integration tests, replaced on each run).
 fn demo() -> &'static Path {
-    static DIR: OnceLock<tempfile::TempDir> = OnceLock::new();
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
-        let dir = tempfile::tempdir().unwrap();
-        let stdout = ok(rockfall(&["demo", "--out", s(dir.path())]));
+        let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-demo");
+        let _ = std::fs::remove_dir_all(&dir);
+        let stdout = ok(rockfall(&["demo", "--out", s(&dir)]));
         assert!(stdout.contains("report.html"), "{stdout}");
         dir
     })
-    .path()
 }
+
+/// The figures of the demo's report, in order.
+const DEMO_FIGURES: [&str; 16] = [
+    "map_site",
+    "map_Reach_probability",
+    "map_Nr_passages",
+    "map_E_95",
+    "map_Ph_95",
+    "map_V_max",
+    "map_Nr_deposited",
+    "map_Nr_tree_impacts",
+    "map_Forest_effect_Reach_probability",
+    "map_Forest_effect_E_95",
+    "runout",
+    "screens_energy",
+    "screens_passing_height",
+    "velocity_profile",
+    "slope_profile",
+    "trajectories_plan",
+];
 
 /// True when `program` runs; panics in CI when it does not, else prints a notice.
 fn available(program: &str, package: &str) -> bool {
@@ -95,7 +116,7 @@ fn the_demo_report_loads_in_chromium_with_every_image_shown() {
     let out = demo();
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     let images = html.matches("<img ").count();
-    assert!(images >= 15, "{images} images");
+    assert_eq!(images, DEMO_FIGURES.len());
     for section in [
         "What was run",
         "Results at a glance",
@@ -110,23 +131,34 @@ fn the_demo_report_loads_in_chromium_with_every_image_shown() {
         !html.contains("src=\"http") && !html.contains("href=\"http"),
         "nothing online"
     );
-    for png in [
-        "map_site",
-        "map_Reach_probability",
-        "map_Nr_passages",
-        "map_E_95",
-        "map_Ph_95",
-        "map_Nr_deposited",
-        "map_Nr_tree_impacts",
-        "runout",
-        "screens_energy",
-        "screens_passing_height",
-        "velocity_profile",
-    ] {
+    // Each figure in the folder, and in the page in this order.
+    let mut at = 0;
+    for png in DEMO_FIGURES {
         assert!(
             common::is_png(&out.join(format!("report/{png}.png"))),
             "{png}"
         );
+        let mark = format!("<code>report/{png}.png</code>");
+        at += html[at..]
+            .find(&mark)
+            .unwrap_or_else(|| panic!("{png} missing or out of order"));
+    }
+    let figures = std::fs::read_dir(out.join("report")).unwrap().count();
+    assert_eq!(figures, DEMO_FIGURES.len(), "no other figure in report/");
+    // The files table lists what the run, the forest effect and the report wrote.
+    for file in [
+        "E_95.tif",
+        "E_95.qml",
+        "Forest_effect_E_95.tif",
+        "Forest_effect_E_95.qml",
+        "forest_effect.json",
+        "trajectories.geojson",
+        "stems.geojson",
+        "report/map_V_max.png",
+        "summary.json",
+    ] {
+        let row = format!("<tr><th>{file}</th>");
+        assert!(html.contains(&row), "{file} not in the files table");
     }
     let bare = std::fs::read_to_string(out.join("without_forest/report.html")).unwrap();
     assert!(

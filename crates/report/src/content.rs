@@ -6,8 +6,53 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 use crate::ReportInput;
-use crate::html::{Rows, Table};
+use crate::html::{FigureSection, Page, Rows, Table};
 use crate::qml::number;
+
+/// The report page of `input` (whose `summary.json` is `summary`), with its figure
+/// `sections` and the `files` of the output folder `out`.
+pub(crate) fn page(
+    out: &Path,
+    input: &ReportInput<'_>,
+    summary: &Value,
+    sections: Vec<FigureSection>,
+    files: &[PathBuf],
+) -> Page {
+    let s = summary;
+    let crs = input.scenario.terrain.dem.crs();
+    let crs_text = crs.map_or("no CRS".into(), |c| c.describe());
+    let mut numbers = Vec::new();
+    let mut without_parameters = s.clone();
+    if let Some(m) = without_parameters.as_object_mut() {
+        m.remove("parameters");
+    }
+    flatten("", &without_parameters, &mut numbers);
+    let mut parameters = Vec::new();
+    flatten("", &s["parameters"], &mut parameters);
+    let label = match input.label.is_empty() {
+        true => String::new(),
+        false => format!(" ({})", input.label),
+    };
+    let named = crs.is_some_and(|c| c.epsg.is_some());
+    Page {
+        title: format!("Rockfall report: {}{label}", input.scenario.name),
+        subtitle: format!(
+            "{} engine · {} rocks · seed {} · rockfall {}",
+            text(&s["engine"]),
+            text(&s["rocks"]),
+            text(&s["seed"]),
+            text(&s["version"])
+        ),
+        links: input.links.clone(),
+        run: run_rows(input, s, &utc_now()),
+        glance: glance(s),
+        screens: screens(s),
+        sections,
+        parameters,
+        numbers,
+        files: files_table(out, files, &crs_text, named),
+    }
+}
 
 /// A JSON value as table text: numbers to four significant digits, `–` for null.
 pub(crate) fn text(v: &Value) -> String {
@@ -188,8 +233,13 @@ pub(crate) fn screens(s: &Value) -> Table {
     }
 }
 
-/// What a file of the output folder is, by its name.
-fn describe(name: &str, crs: &str) -> String {
+/// What a file of the output folder is, by its name; `named` when the GeoJSON files can name
+/// the CRS (it has an EPSG code).
+fn describe(name: &str, crs: &str, named: bool) -> String {
+    let vector_crs = match named {
+        true => crs.to_owned(),
+        false => format!("coordinates in {crs}, which GeoJSON cannot name: set it in your GIS"),
+    };
     let stem = name.rsplit_once('.').map_or(name, |(s, _)| s);
     match name.rsplit_once('.').map(|(_, e)| e) {
         Some("tif") => format!("GeoTIFF raster ({crs}); open it in QGIS or GDAL"),
@@ -203,9 +253,11 @@ fn describe(name: &str, crs: &str) -> String {
             "summary.json" => "every headline number of the run, machine-readable".into(),
             "trajectories.csv" => "the recorded trajectories, one row per recorded state".into(),
             "trajectories.geojson" => {
-                format!("the recorded trajectories as lines ({crs}), for a GIS")
+                format!("the recorded trajectories as lines ({vector_crs}), for a GIS")
             }
-            "stems.geojson" => format!("the simulated stems as points with DBH ({crs}), for a GIS"),
+            "stems.geojson" => {
+                format!("the simulated stems as points with DBH ({vector_crs}), for a GIS")
+            }
             "rocks.csv" => "one row per rock: start, outcome, end, maxima".into(),
             "forest_effect.json" => "the forest's effect: with − without forest".into(),
             "report.html" => "this report".into(),
@@ -215,7 +267,7 @@ fn describe(name: &str, crs: &str) -> String {
 }
 
 /// The files of the output folder `out`, by name, with what each is.
-pub(crate) fn files(out: &Path, written: &[PathBuf], crs: &str) -> Rows {
+pub(crate) fn files_table(out: &Path, written: &[PathBuf], crs: &str, named: bool) -> Rows {
     let mut names: Vec<String> = written
         .iter()
         .map(|p| {
@@ -230,7 +282,7 @@ pub(crate) fn files(out: &Path, written: &[PathBuf], crs: &str) -> Rows {
     names
         .into_iter()
         .map(|n| {
-            let d = describe(n.rsplit('/').next().unwrap_or(&n), crs);
+            let d = describe(n.rsplit('/').next().unwrap_or(&n), crs, named);
             (n, d)
         })
         .collect()
@@ -291,19 +343,47 @@ mod tests {
     #[test]
     fn files_are_described_by_kind() {
         let out = Path::new("/o");
-        let rows = files(
-            out,
-            &[
-                out.join("E_95.qml"),
-                out.join("report/map_site.png"),
-                out.join("E_95.tif"),
-            ],
-            "EPSG:2154",
-        );
+        let written = [
+            out.join("E_95.qml"),
+            out.join("report/map_site.png"),
+            out.join("E_95.tif"),
+            out.join("trajectories.geojson"),
+        ];
+        let rows = files_table(out, &written, "EPSG:2154", true);
         assert_eq!(rows[0].0, "E_95.qml");
         assert!(rows[0].1.contains("E_95.tif"));
         assert!(rows[1].1.contains("EPSG:2154"));
         assert_eq!(rows[2].0, "report/map_site.png");
+        assert_eq!(
+            rows[3].1,
+            "the recorded trajectories as lines (EPSG:2154), for a GIS"
+        );
+        let unnamed = files_table(out, &written, "a local CRS", false);
+        assert!(
+            unnamed[3].1.contains("GeoJSON cannot name"),
+            "{}",
+            unnamed[3].1
+        );
+    }
+
+    #[test]
+    fn the_glance_reads_each_number_from_its_key() {
+        let s = serde_json::json!({
+            "stopped_fraction": 0.9, "left_dem_fraction": 0.1,
+            "runout_m": {"p50": 1.0, "p95": 2.0, "max": 3.0},
+            "max_velocity_ms": {"mean": 4.0, "max": 5.0},
+            "max_jump_height_m": {"mean": 6.0, "max": 7.0},
+            "tree_impacts_per_rock": 8.0, "cells_reached": 9,
+        });
+        let got: Vec<String> = glance(&s).into_iter().map(|(_, v)| v).collect();
+        assert_eq!(
+            got,
+            [
+                "90 %", "10 %", "1 m", "2 m", "3 m", "4 m/s", "5 m/s", "6 m", "7 m", "8", "9"
+            ]
+        );
+        let labels: Vec<String> = glance(&s).into_iter().map(|(l, _)| l).collect();
+        assert_eq!(labels[1], "left the DEM");
     }
 
     #[test]

@@ -299,6 +299,15 @@ mod tests {
             "{html}"
         );
         assert!(html.contains("x &lt; y"));
+        let linked = Page {
+            links: vec![("a \"b\"".into(), "x\" onclick=\"y".into())],
+            ..Page::default()
+        };
+        let html = render(&linked).unwrap();
+        assert!(
+            html.contains("<a href=\"x&quot; onclick=&quot;y\">a &quot;b&quot;</a>"),
+            "{html}"
+        );
         assert!(
             !html.contains("http://") && !html.contains("https://"),
             "nothing from the network"
@@ -312,6 +321,9 @@ mod tests {
         png.extend(900u32.to_be_bytes());
         assert_eq!(png_width(&png), Some(600));
         assert_eq!(png_width(b"GIF89a"), None);
+        let mut other_chunk = png.clone();
+        other_chunk[12..16].copy_from_slice(b"IDAT");
+        assert_eq!(png_width(&other_chunk), None, "the width is IHDR's");
         assert_eq!(png_width(&png[..18]), None);
     }
 

@@ -3,6 +3,10 @@
 use rockfall_plot::{ColorScale, Ramp};
 use rockfall_raster::Grid;
 
+/// Opacity of a raster's colours over the hillshade, on the report's maps and in the QGIS
+/// styles alike.
+pub const LAYER_OPACITY: f64 = 0.8;
+
 /// How the colour scale of a layer is fitted to its values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ScaleKind {
@@ -11,7 +15,8 @@ pub enum ScaleKind {
     /// Logarithmic, from the smallest positive value to the largest: counts and
     /// probabilities spanning decades.
     Log,
-    /// Centred on 0, from −m to +m with m the largest magnitude: differences.
+    /// Centred on 0, from −m to +m with m the [`SYMMETRIC_PERCENTILE`]th percentile of the
+    /// magnitudes: differences.
     Symmetric,
 }
 
@@ -82,7 +87,9 @@ impl LayerStyle {
                 let min = lo.min(0.0);
                 (min, if hi > min { hi } else { min + 1.0 })
             }
-            ScaleKind::Log => (lo, if hi > lo { hi } else { lo * 10.0 }),
+            // A single value takes the top colour of a decade below it.
+            ScaleKind::Log if hi > lo => (lo, hi),
+            ScaleKind::Log => (lo / 10.0, lo),
             ScaleKind::Symmetric => {
                 let mut magnitudes: Vec<f64> = shown.iter().map(|v| v.abs()).collect();
                 magnitudes.sort_by(f64::total_cmp);
@@ -118,24 +125,24 @@ pub fn style(name: &str) -> LayerStyle {
     match name {
         "Reach_probability" => LayerStyle::new("Reach probability", "% of rocks", Ramp::Viridis, Log)
             .says("Share of the simulated rocks that reached the cell (empty: none)."),
-        "Nr_passages" => LayerStyle::new("Passages", "rocks", Ramp::Viridis, Log)
+        "Nr_passages" => LayerStyle::new("Passages", "passages", Ramp::Viridis, Log)
             .says("Number of rock passages through the cell."),
-        "Nr_deposited" => LayerStyle::new("Deposited rocks", "rocks", Ramp::Cividis, Log)
+        "Nr_deposited" => LayerStyle::new("Deposited rocks", "rocks", Ramp::Viridis, Log)
             .says("Rocks that came to rest in the cell."),
         "Nr_sourcecells" => LayerStyle::new("Source cells reaching", "cells", Ramp::Viridis, Log)
             .says("Number of distinct release cells whose rocks reached the cell."),
         "E_mean" => LayerStyle::new("Mean kinetic energy", "kJ", Ramp::Magma, Linear)
             .says("Mean energy (translational + rotational) over the passages through the cell."),
-        "Ph_mean" => LayerStyle::new("Mean passing height", "m", Ramp::Cividis, Linear)
+        "Ph_mean" => LayerStyle::new("Mean passing height", "m", Ramp::Plasma, Linear)
             .says("Mean height of the rock centre above the ground, over the passages."),
-        "Ph_95" => LayerStyle::new("Passing height, 95th percentile", "m", Ramp::Cividis, Linear)
+        "Ph_95" => LayerStyle::new("Passing height, 95th percentile", "m", Ramp::Plasma, Linear)
             .says("95 % of the passages through the cell were lower (rock centre above the ground)."),
         "V_max" => LayerStyle::new("Maximum velocity", "m/s", Ramp::Inferno, Linear)
             .says("Largest translational speed of any rock in the cell."),
         "Nr_tree_impacts" => LayerStyle::new("Tree impacts", "impacts", Ramp::Viridis, Log)
             .says("Rock–tree impacts in the cell."),
         "Tree_impact_height_max" => {
-            LayerStyle::new("Highest tree impact", "m", Ramp::Cividis, Linear)
+            LayerStyle::new("Highest tree impact", "m", Ramp::Plasma, Linear)
                 .says("Largest height above the ground at which a stem was hit in the cell.")
         }
         "Nr_stems_broken" => LayerStyle::new("Stems broken", "stems", Ramp::Magma, Log)
@@ -201,7 +208,11 @@ mod tests {
         let one = style("Nr_passages")
             .fit(&grid(vec![0.0, 3.0, 3.0]))
             .unwrap();
-        assert!(one.min == 3.0 && one.max > one.min);
+        assert_eq!(
+            (one.min, one.max),
+            (0.3, 3.0),
+            "a single value takes the top colour"
+        );
         let flat = style("V_max").fit(&grid(vec![0.0, 0.0])).unwrap();
         assert!(flat.max > flat.min);
         let mut many = vec![-10.0; 99];

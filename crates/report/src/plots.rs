@@ -1,21 +1,19 @@
-//! The report's plots: distributions of run-out and of what crosses each screen, speed along
-//! the slope, and a few trajectories coloured by energy.
+//! The report's plots: distributions of run-out and of what crosses each screen, and a few
+//! trajectories coloured by energy (the profiles along the slope are in
+//! [`crate::profiles`]).
 //!
 //! Distributions come from the run's own histograms (log-spaced, 32 bins per decade; see
 //! `rockfall_results::Distribution`), spread uniformly over equal display bins, so they
-//! hold every rock or crossing, not only the recorded trajectories; so does the speed
-//! profile (every cell visit). Trajectory plots come from the recorded trajectories
-//! (`[output] trajectories`).
+//! hold every rock or crossing, not only the recorded trajectories. Trajectory plots come
+//! from the recorded trajectories (`[output] trajectories`).
 
 use std::path::Path;
 
 use rockfall_plot::{
-    Axes, Bars, ColorScale, LinePanel, Panel, Polyline, Ramp, Series, colored_lines_panels,
-    histogram, line_panels,
+    Axes, Bars, ColorScale, LinePanel, Polyline, Ramp, colored_lines_panels, histogram, nice_step,
 };
-use rockfall_raster::Grid;
-use rockfall_results::{Bin, Distribution, ProfileBin, Quantity, Results, TrajectoryRow};
-use rockfall_terrain::Dem;
+use rockfall_results::{Bin, Distribution, Quantity, Results, TrajectoryRow};
+use serde_json::Value;
 
 use crate::ReportError;
 use crate::figure::Figure;
@@ -29,15 +27,10 @@ const MAX_DISPLAY_BINS: usize = 200;
 /// Trajectories drawn in plan and profile.
 const TRAJECTORIES_DRAWN: usize = 12;
 
-/// A round bin width (1, 2 or 5 × 10^k) giving about `bins` bins up to `max`.
+/// A round bin width (1, 2 or 5 × 10^k) giving about `bins` bins up to `max` (a width of
+/// 1 mm for `max` 0).
 pub(crate) fn nice_width(max: f64, bins: f64) -> f64 {
-    let raw = (max / bins).max(f64::MIN_POSITIVE);
-    let step = 10f64.powf(raw.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * step)
-        .find(|w| *w >= raw * (1.0 - 1e-12))
-        .unwrap_or(10.0 * step)
+    nice_step((max / bins).max(1e-3 / bins))
 }
 
 /// Where the highest bin of `bins` ends (0 for none).
@@ -82,7 +75,11 @@ pub(crate) fn rebin(bins: &[Bin], width: f64, total: u64) -> Vec<(f64, f64, f64)
 }
 
 /// Run-out distribution of every rock.
-pub fn runout(dir: &Path, results: &Results) -> Result<Option<Figure>, ReportError> {
+pub fn runout(
+    dir: &Path,
+    results: &Results,
+    summary: &Value,
+) -> Result<Option<Figure>, ReportError> {
     let Some(d) = results
         .distribution(Quantity::Runout)
         .filter(|d| d.count > 0)
@@ -94,9 +91,8 @@ pub fn runout(dir: &Path, results: &Results) -> Result<Option<Figure>, ReportErr
         label: format!("{} rocks", d.count),
         bins: rebin(&d.bins, width, d.count),
     }];
-    let s = results.summary_json();
-    let r = &s["runout_m"];
-    let f = |v: &serde_json::Value| v.as_f64().map_or("–".into(), number);
+    let r = &summary["runout_m"];
+    let f = |v: &Value| v.as_f64().map_or("–".into(), number);
     let title = format!(
         "Run-out: p50 {} m, p95 {} m, max {} m",
         f(&r["p50"]),
@@ -118,9 +114,8 @@ pub fn runout(dir: &Path, results: &Results) -> Result<Option<Figure>, ReportErr
 }
 
 /// Energy and passing-height distributions at the screens (one bar set per crossed screen).
-pub fn screens(dir: &Path, results: &Results) -> Result<Vec<Figure>, ReportError> {
-    let s = results.summary_json();
-    let names: Vec<String> = (s["screens"].as_array().into_iter().flatten())
+pub fn screens(dir: &Path, results: &Results, summary: &Value) -> Result<Vec<Figure>, ReportError> {
+    let names: Vec<String> = (summary["screens"].as_array().into_iter().flatten())
         .map(|sc| sc["name"].as_str().unwrap_or("screen").to_owned())
         .collect();
     let mut figures = Vec::new();
@@ -169,162 +164,6 @@ pub fn screens(dir: &Path, results: &Results) -> Result<Vec<Figure>, ReportError
     Ok(figures)
 }
 
-/// Speed along the slope, from every cell visit of every rock (the run's speed profile).
-pub fn speed_profile(dir: &Path, results: &Results) -> Result<Option<Figure>, ReportError> {
-    let bins = results.speed_profile();
-    if bins.len() < 2 {
-        return Ok(None);
-    }
-    let centre = |b: &ProfileBin| (b.from_m + b.to_m) / 2.0;
-    let series = |label: &str, f: fn(&ProfileBin) -> f64| Series {
-        label: label.into(),
-        points: bins.iter().map(|b| (centre(b), f(b))).collect(),
-    };
-    let width = bins[0].to_m - bins[0].from_m;
-    let visits: u64 = bins.iter().map(|b| b.visits).sum();
-    let panel = Panel {
-        title: format!(
-            "{} cell visits of {} rocks, {} m bins",
-            visits,
-            results.rocks(),
-            number(width)
-        ),
-        series: vec![
-            series("median", |b| b.median_ms),
-            series("95th percentile", |b| b.p95_ms),
-            series("maximum", |b| b.max_ms),
-        ],
-    };
-    let fig = Figure::plot(
-        dir,
-        "velocity_profile.png",
-        "Speed along the slope",
-        "Translational speed of every rock in every cell it crossed, against the horizontal \
-         distance from its release point to the cell.",
-    );
-    let axes = Axes::new(DISTANCE_LABEL, "speed (m/s)");
-    line_panels(&fig.path, &fig.title, &axes, &[panel])?;
-    Ok(Some(fig))
-}
-
-/// The ground of the reached cells in one distance bin.
-#[derive(Debug, Clone, Copy)]
-struct GroundBin {
-    /// Sum of passages × elevation, m.
-    weighted_z: f64,
-    /// Sum of passages.
-    weight: f64,
-    /// Lowest elevation, m.
-    lowest: f64,
-    /// Highest elevation, m.
-    highest: f64,
-}
-
-impl Default for GroundBin {
-    fn default() -> Self {
-        GroundBin {
-            weighted_z: 0.0,
-            weight: 0.0,
-            lowest: f64::INFINITY,
-            highest: f64::NEG_INFINITY,
-        }
-    }
-}
-
-impl GroundBin {
-    fn add(&mut self, z: f64, passages: f64) {
-        self.weighted_z += passages * z;
-        self.weight += passages;
-        self.lowest = self.lowest.min(z);
-        self.highest = self.highest.max(z);
-    }
-}
-
-/// Label of the distance axes.
-const DISTANCE_LABEL: &str = "horizontal distance from release (m)";
-/// Most release positions for which the slope profile is drawn (each reached cell is
-/// placed at its distance from the nearest one).
-const MAX_PROFILE_SOURCES: usize = 256;
-
-/// The ground under the rocks: per distance from the nearest release position, the
-/// elevation of the cells the rocks crossed, weighted by their passages (`passages` on the
-/// DEM's grid). `None` with more than [`MAX_PROFILE_SOURCES`] release positions or fewer
-/// than two distance bins.
-pub fn slope_profile(
-    dir: &Path,
-    dem: &Dem,
-    passages: &Grid<f64>,
-    sources_m: &[[f64; 2]],
-    bin_m: f64,
-) -> Result<Option<Figure>, ReportError> {
-    if sources_m.is_empty()
-        || sources_m.len() > MAX_PROFILE_SOURCES
-        || bin_m.is_nan()
-        || bin_m <= 0.0
-    {
-        return Ok(None);
-    }
-    let g = *passages.geometry();
-    let mut bins: Vec<GroundBin> = Vec::new();
-    for (row, col, w) in passages.iter_valid().filter(|c| c.2 > 0.0) {
-        let (x, y) = g.cell_center(row, col);
-        let Some(z) = dem.grid().get(row, col) else {
-            continue;
-        };
-        let d = sources_m
-            .iter()
-            .map(|s| (x - s[0]).hypot(y - s[1]))
-            .fold(f64::INFINITY, f64::min);
-        let k = (d / bin_m) as usize;
-        if k >= bins.len() {
-            bins.resize(k + 1, GroundBin::default());
-        }
-        bins[k].add(z, w);
-    }
-    if bins.iter().filter(|b| b.weight > 0.0).count() < 2 {
-        return Ok(None);
-    }
-    let points = |f: fn(&GroundBin) -> f64| -> Vec<(f64, f64)> {
-        (bins.iter().enumerate())
-            .map(|(k, b)| {
-                let v = if b.weight > 0.0 { f(b) } else { f64::NAN };
-                ((k as f64 + 0.5) * bin_m, v)
-            })
-            .collect()
-    };
-    let panel = Panel {
-        title: "ground of the cells the rocks crossed".into(),
-        series: vec![
-            Series {
-                label: "mean, weighted by passages".into(),
-                points: points(|b| b.weighted_z / b.weight),
-            },
-            Series {
-                label: "lowest".into(),
-                points: points(|b| b.lowest),
-            },
-            Series {
-                label: "highest".into(),
-                points: points(|b| b.highest),
-            },
-        ],
-    };
-    let fig = Figure::plot(
-        dir,
-        "slope_profile.png",
-        "Slope profile",
-        "Elevation of the cells the rocks crossed against their horizontal distance from the \
-         nearest release position: the terrain the speeds above were reached on.",
-    );
-    line_panels(
-        &fig.path,
-        &fig.title,
-        &Axes::new(DISTANCE_LABEL, "elevation (m)"),
-        &[panel],
-    )?;
-    Ok(Some(fig))
-}
-
 /// A few recorded trajectories in plan (and, with `profile`, in profile), coloured by
 /// their total kinetic energy.
 pub fn trajectories(
@@ -338,61 +177,66 @@ pub fn trajectories(
     }
     let step = rocks.len().div_ceil(TRAJECTORIES_DRAWN);
     let chosen: Vec<&[TrajectoryRow]> = rocks.iter().step_by(step).copied().collect();
-    let max_kj = chosen
-        .iter()
-        .flat_map(|r| r.iter())
-        .map(energy_kj)
-        .fold(0.0, f64::max);
-    let scale = ColorScale {
-        label: "kinetic energy (kJ)".into(),
-        min: 0.0,
-        max: if max_kj > 0.0 { max_kj } else { 1.0 },
-        log: false,
-        ramp: Ramp::Magma,
-    };
-    let line = |r: &[TrajectoryRow], point: &dyn Fn(&TrajectoryRow) -> [f64; 2]| Polyline {
-        points: r.iter().map(point).collect(),
-        values: r.iter().map(energy_kj).collect(),
-    };
-    let panel_title = format!("{} of {} recorded rocks", chosen.len(), rocks.len());
-    let mut figures = Vec::new();
-    let plan = LinePanel {
-        title: panel_title.clone(),
-        lines: chosen
-            .iter()
-            .map(|r| line(r, &|s| [s.x_m, s.y_m]))
-            .collect(),
-    };
-    let fig = Figure::plot(
+    let scale = energy_scale(&chosen);
+    let title = format!("{} of {} recorded rocks", chosen.len(), rocks.len());
+    let plan = Figure::plot(
         dir,
         "trajectories_plan.png",
         "Trajectories in plan",
         "A sample of the recorded trajectories seen from above, coloured by kinetic energy.",
     );
+    let panel = energy_lines(&title, &chosen, |_, s| [s.x_m, s.y_m]);
     let axes = Axes::new("easting (m)", "northing (m)");
-    colored_lines_panels(&fig.path, &fig.title, &axes, &scale, &[plan])?;
-    figures.push(fig);
-    if profile {
-        let side = LinePanel {
-            title: panel_title,
-            lines: (chosen.iter())
-                .map(|r| {
-                    let (x0, y0) = (r[0].x_m, r[0].y_m);
-                    line(r, &|s| [(s.x_m - x0).hypot(s.y_m - y0), s.z_m])
-                })
-                .collect(),
-        };
-        let fig = Figure::plot(
-            dir,
-            "trajectories_profile.png",
-            "Trajectories in profile",
-            "The same trajectories seen from the side: height of the rock centre against horizontal distance from release, true scale.",
-        );
-        let axes = Axes::new("horizontal distance from release (m)", "elevation (m)");
-        colored_lines_panels(&fig.path, &fig.title, &axes, &scale, &[side])?;
-        figures.push(fig);
+    colored_lines_panels(&plan.path, &plan.title, &axes, &scale, &[panel])?;
+    if !profile {
+        return Ok(vec![plan]);
     }
-    Ok(figures)
+    let side = Figure::plot(
+        dir,
+        "trajectories_profile.png",
+        "Trajectories in profile",
+        "The same trajectories seen from the side: height of the rock centre against \
+         horizontal distance from release, true scale.",
+    );
+    let panel = energy_lines(&title, &chosen, |first, s| {
+        [(s.x_m - first.x_m).hypot(s.y_m - first.y_m), s.z_m]
+    });
+    let axes = Axes::new("horizontal distance from release (m)", "elevation (m)");
+    colored_lines_panels(&side.path, &side.title, &axes, &scale, &[panel])?;
+    Ok(vec![plan, side])
+}
+
+/// The energy scale of `rocks`: 0 to their largest total kinetic energy (kJ), magma.
+fn energy_scale(rocks: &[&[TrajectoryRow]]) -> ColorScale {
+    let max_kj = rocks
+        .iter()
+        .flat_map(|r| r.iter())
+        .map(energy_kj)
+        .fold(0.0, f64::max);
+    ColorScale {
+        label: "kinetic energy (kJ)".into(),
+        min: 0.0,
+        max: if max_kj > 0.0 { max_kj } else { 1.0 },
+        log: false,
+        ramp: Ramp::Magma,
+    }
+}
+
+/// One panel with a line per rock, its vertices placed by `point(first row, row)` and
+/// coloured by the row's total kinetic energy (kJ).
+fn energy_lines(
+    title: &str,
+    rocks: &[&[TrajectoryRow]],
+    point: impl Fn(&TrajectoryRow, &TrajectoryRow) -> [f64; 2],
+) -> LinePanel {
+    let line = |r: &[TrajectoryRow]| Polyline {
+        points: r.iter().map(|s| point(&r[0], s)).collect(),
+        values: r.iter().map(energy_kj).collect(),
+    };
+    LinePanel {
+        title: title.to_owned(),
+        lines: rocks.iter().map(|r| line(r)).collect(),
+    }
 }
 
 #[cfg(test)]

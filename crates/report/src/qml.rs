@@ -14,14 +14,12 @@ use rockfall_plot::ColorScale;
 use rockfall_raster::atomic::write_bytes_atomic;
 
 use crate::ReportError;
-use crate::layers::LayerStyle;
+use crate::layers::{LAYER_OPACITY, LayerStyle};
 
 /// Colour-ramp items of a linear or symmetric scale.
 const LINEAR_ITEMS: usize = 11;
 /// Colour-ramp items of a log scale.
 const LOG_ITEMS: usize = 21;
-/// Opacity of the layer: the hillshade under it stays visible, as on the report's maps.
-const OPACITY: f64 = 0.8;
 
 /// The `(value, (r, g, b))` items of the colour ramp of `scale`, ascending.
 pub fn ramp_items(scale: &ColorScale) -> Vec<(f64, (u8, u8, u8))> {
@@ -56,7 +54,7 @@ pub fn qml(style: &LayerStyle, scale: &ColorScale) -> String {
     let _ = writeln!(s, "  <pipe>");
     let _ = writeln!(
         s,
-        "    <rasterrenderer type=\"singlebandpseudocolor\" band=\"1\" opacity=\"{OPACITY}\" \
+        "    <rasterrenderer type=\"singlebandpseudocolor\" band=\"1\" opacity=\"{LAYER_OPACITY}\" \
          alphaBand=\"-1\" classificationMin=\"{min}\" classificationMax=\"{max}\" nodataColor=\"\">"
     );
     if style.zero_is_empty {
@@ -181,8 +179,10 @@ mod tests {
         assert_eq!(got.len(), LINEAR_ITEMS);
         assert_eq!((got[0].0, got[10].0), (0.0, 340.0));
         assert!((got[5].0 - 170.0).abs() < 1e-9);
-        let (r, g, b) = Ramp::Magma.at(0.5);
-        assert_eq!(got[5].1, format!("#{r:02x}{g:02x}{b:02x}"));
+        let hex = |(r, g, b): (u8, u8, u8)| format!("#{r:02x}{g:02x}{b:02x}");
+        for (item, t) in [(0, 0.0), (5, 0.5), (10, 1.0)] {
+            assert_eq!(got[item].1, hex(Ramp::Magma.at(t)), "item {item}");
+        }
         assert!(
             !doc.contains("pixelListEntry"),
             "energy 0 is a value, not empty"
@@ -212,6 +212,15 @@ mod tests {
             .find(|n| n.has_tag_name("rasterrenderer"))
             .unwrap();
         assert_eq!(renderer.attribute("type"), Some("singlebandpseudocolor"));
+        assert_eq!(renderer.attribute("opacity"), Some("0.8"));
+        let diff = scale(-5.0, 5.0, false, Ramp::Diverging);
+        let reach_diff = qml(&style("Forest_effect_Reach_probability"), &diff);
+        let zero = "pixelListEntry min=\"0\" max=\"0\"";
+        assert!(
+            reach_diff.contains(zero),
+            "zero is no difference: transparent"
+        );
+        assert!(!qml(&style("Forest_effect_E_95"), &diff).contains("pixelListEntry"));
     }
 
     #[test]

@@ -156,6 +156,42 @@ impl Results {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rockfall_raster::GridGeometry;
+
+    fn layout(ncols: usize, nrows: usize, cell_size_m: f64) -> Layout {
+        Layout {
+            geometry: GridGeometry {
+                ncols,
+                nrows,
+                x_min_m: 0.0,
+                y_min_m: 0.0,
+                cell_size_m,
+            },
+            crs: None,
+            screens: Vec::new(),
+            percentiles: Vec::new(),
+            trajectories: 0,
+            rock_ends: false,
+        }
+    }
+
+    #[test]
+    fn bins_are_a_cell_wide_unless_the_grid_spans_more_than_max_bins_cells() {
+        assert_eq!(SpeedProfile::new(&layout(60, 142, 2.5)).bin_m, 2.5);
+        let big = SpeedProfile::new(&layout(6000, 8000, 1.0));
+        assert!(
+            (big.bin_m - 10_000.0 / MAX_BINS as f64).abs() < 1e-9,
+            "{}",
+            big.bin_m
+        );
+        let mut p = SpeedProfile::new(&layout(10, 10, 1.0));
+        p.add(1e9, 3.0);
+        assert_eq!(
+            p.bins.len(),
+            MAX_BINS,
+            "farther visits go into the last bin"
+        );
+    }
 
     #[test]
     fn speed_percentiles_are_within_a_step() {

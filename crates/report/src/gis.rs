@@ -1,0 +1,68 @@
+//! The GIS files beside the rasters: a QGIS style per GeoTIFF, the trajectories and stems as
+//! GeoJSON.
+
+use std::path::{Path, PathBuf};
+
+use rockfall_plot::ColorScale;
+
+use crate::layers::{ScaleKind, style};
+use crate::{ReportError, ReportInput, geojson, qml};
+
+/// Writes `<raster>.qml` for every raster (one grid in memory at a time),
+/// `trajectories.geojson` when trajectories were recorded and `stems.geojson` when stems
+/// were simulated; removes either GeoJSON file when it is not written again. Returns the
+/// files written.
+pub(crate) fn write_gis(out: &Path, input: &ReportInput<'_>) -> Result<Vec<PathBuf>, ReportError> {
+    let mut written = Vec::new();
+    for name in input.raster_names() {
+        let Some(grid) = input.raster(&name) else {
+            continue;
+        };
+        let style = style(&name);
+        // A raster with nothing to colour still gets a style, on a unit scale.
+        let scale = style.fit(&grid).unwrap_or_else(|| ColorScale {
+            label: style.label(),
+            min: if style.scale == ScaleKind::Symmetric {
+                -1.0
+            } else {
+                0.0
+            },
+            max: 1.0,
+            log: false,
+            ramp: style.ramp,
+        });
+        let path = out.join(format!("{name}.qml"));
+        qml::write_qml(&path, &style, &scale)?;
+        written.push(path);
+    }
+    let crs = input.scenario.terrain.dem.crs();
+    let cell = input.scenario.terrain.dem.geometry().cell_size_m;
+    let rows = input.results.trajectories();
+    let trajectories = (!rows.is_empty()).then(|| geojson::feature_collection(rows, crs, cell));
+    let stems = (!input.stems.is_empty()).then(|| geojson::stems_collection(input.stems, crs));
+    for (file, fc) in [
+        ("trajectories.geojson", trajectories),
+        ("stems.geojson", stems),
+    ] {
+        let path = out.join(file);
+        match fc {
+            Some(fc) => {
+                geojson::write_geojson(&path, &fc)?;
+                written.push(path);
+            }
+            None => remove_stale(&path)?,
+        }
+    }
+    Ok(written)
+}
+
+/// Removes `path` if it exists (a file of an earlier run that this one does not write).
+fn remove_stale(path: &Path) -> Result<(), ReportError> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(ReportError::Io {
+            path: path.to_path_buf(),
+            source: e,
+        }),
+        _ => Ok(()),
+    }
+}
