@@ -4,37 +4,44 @@
 use std::path::{Path, PathBuf};
 
 use rockfall_plot::ColorScale;
+use rockfall_raster::Grid;
 
 use crate::layers::{ScaleKind, style};
 use crate::{ReportError, ReportInput, geojson, qml};
 
-/// Writes `<raster>.qml` for every raster (one grid in memory at a time),
-/// `trajectories.geojson` when trajectories were recorded and `stems.geojson` when stems
-/// were simulated; removes either GeoJSON file when it is not written again. Returns the
-/// files written.
-pub(crate) fn write_gis(out: &Path, input: &ReportInput<'_>) -> Result<Vec<PathBuf>, ReportError> {
+/// Writes `<name>.qml`, the QGIS style of the raster `name` (`grid`), into `out`; returns
+/// its path.
+pub(crate) fn write_style(
+    out: &Path,
+    name: &str,
+    grid: &Grid<f64>,
+) -> Result<PathBuf, ReportError> {
+    let style = style(name);
+    // A raster with nothing to colour still gets a style, on a unit scale.
+    let scale = style.fit(grid).unwrap_or_else(|| ColorScale {
+        label: style.label(),
+        min: if style.scale == ScaleKind::Symmetric {
+            -1.0
+        } else {
+            0.0
+        },
+        max: 1.0,
+        log: false,
+        ramp: style.ramp,
+    });
+    let path = out.join(format!("{name}.qml"));
+    qml::write_qml(&path, &style, &scale)?;
+    Ok(path)
+}
+
+/// Writes `trajectories.geojson` when trajectories were recorded and `stems.geojson` when
+/// stems were simulated; removes either file when it is not written again. Returns the files
+/// written.
+pub(crate) fn write_vectors(
+    out: &Path,
+    input: &ReportInput<'_>,
+) -> Result<Vec<PathBuf>, ReportError> {
     let mut written = Vec::new();
-    for name in input.raster_names() {
-        let Some(grid) = input.raster(&name) else {
-            continue;
-        };
-        let style = style(&name);
-        // A raster with nothing to colour still gets a style, on a unit scale.
-        let scale = style.fit(&grid).unwrap_or_else(|| ColorScale {
-            label: style.label(),
-            min: if style.scale == ScaleKind::Symmetric {
-                -1.0
-            } else {
-                0.0
-            },
-            max: 1.0,
-            log: false,
-            ramp: style.ramp,
-        });
-        let path = out.join(format!("{name}.qml"));
-        qml::write_qml(&path, &style, &scale)?;
-        written.push(path);
-    }
     let crs = input.scenario.terrain.dem.crs();
     let cell = input.scenario.terrain.dem.geometry().cell_size_m;
     let rows = input.results.trajectories();

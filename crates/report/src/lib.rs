@@ -44,6 +44,9 @@ use rockfall_scenario::Scenario;
 pub use error::ReportError;
 pub use figure::Figure;
 
+use crate::maps::MapBase;
+use crate::sections::LayerMaps;
+
 /// The rasters mapped in the report, in order (those a run has; `Nr_tree_impacts` only
 /// with stems).
 pub const MAPPED: [&str; 7] = [
@@ -108,9 +111,20 @@ impl ReportInput<'_> {
 pub fn write(out: &Path, input: &ReportInput<'_>) -> Result<Vec<PathBuf>, ReportError> {
     let dir = out.join("report");
     clear_figures(&dir)?;
-    let mut written = gis::write_gis(out, input)?;
+    let base = MapBase::new(input.scenario, input.stems, &input.label)?;
+    let mut layers = LayerMaps::default();
+    let mut written = Vec::new();
+    // One raster in memory at a time: its QGIS style, then its map.
+    for name in input.raster_names() {
+        let Some(grid) = input.raster(&name) else {
+            continue;
+        };
+        written.push(gis::write_style(out, &name, &grid)?);
+        layers.draw(&dir, input, &base, &name, &grid)?;
+    }
+    written.extend(gis::write_vectors(out, input)?);
     let summary = input.results.summary_json();
-    let sections = sections::figure_sections(&dir, input, &summary)?;
+    let sections = sections::figure_sections(&dir, input, &base, layers, &summary)?;
     written.extend(
         sections
             .iter()

@@ -4,6 +4,7 @@
 
 use std::path::Path;
 
+use rockfall_raster::Grid;
 use rockfall_scenario::Engine;
 use serde_json::Value;
 
@@ -11,18 +12,82 @@ use crate::html::FigureSection;
 use crate::maps::MapBase;
 use crate::{Figure, MAPPED, ReportError, ReportInput, plots, profiles};
 
-/// Every figure section of the report, its figures drawn into `dir`.
+/// The maps of the rasters, drawn while each raster is in memory ([`LayerMaps::draw`]).
+#[derive(Default)]
+pub(crate) struct LayerMaps {
+    /// Key rasters' maps with their place in [`MAPPED`].
+    maps: Vec<(usize, Figure)>,
+    /// Forest-effect maps.
+    effect: Vec<Figure>,
+    /// Rasters not mapped, with why.
+    skipped: Vec<String>,
+    effect_skipped: Vec<String>,
+    /// `Nr_passages`, kept for the slope profile.
+    passages: Option<Grid<f64>>,
+}
+
+impl LayerMaps {
+    /// Maps the raster `name` (`grid`) if the report shows it: a key raster of [`MAPPED`]
+    /// (`Nr_tree_impacts` only with stems) or a forest-effect difference.
+    pub(crate) fn draw(
+        &mut self,
+        dir: &Path,
+        input: &ReportInput<'_>,
+        base: &MapBase,
+        name: &str,
+        grid: &Grid<f64>,
+    ) -> Result<(), ReportError> {
+        if name == "Nr_passages" {
+            self.passages = Some(grid.clone());
+        }
+        let effect = name.starts_with("Forest_effect_");
+        let key = MAPPED.iter().position(|m| *m == name);
+        let stemless = name == "Nr_tree_impacts" && input.stems.is_empty();
+        if !effect && (key.is_none() || stemless) {
+            return Ok(());
+        }
+        let figure = base.layer_map(dir, name, grid)?;
+        let skipped = format!("{name} (no cell to colour)");
+        match (figure, key) {
+            (Some(f), Some(k)) => self.maps.push((k, f)),
+            (Some(f), None) => self.effect.push(f),
+            (None, Some(_)) => self.skipped.push(skipped),
+            (None, None) => self.effect_skipped.push(skipped),
+        }
+        Ok(())
+    }
+}
+
+/// Every figure section of the report, its figures drawn into `dir`; `layers` holds the
+/// rasters' maps, drawn already.
 pub(crate) fn figure_sections(
     dir: &Path,
     input: &ReportInput<'_>,
+    base: &MapBase,
+    layers: LayerMaps,
     summary: &Value,
 ) -> Result<Vec<FigureSection>, ReportError> {
-    let base = MapBase::new(input.scenario, input.stems, &input.label)?;
-    let mut sections = vec![maps(dir, input, &base)?];
-    if let Some(effect) = forest_effect(dir, input, &base)? {
-        sections.push(effect);
+    let mut sections = vec![maps(dir, input, base, layers.maps, &layers.skipped)?];
+    if input.forest_effect.is_some() {
+        let intro = "The same rocks run with the forest minus without it. Negative (blue): the \
+                     forest lowers the hazard. The reach-probability difference is uncoloured \
+                     where it is zero; the energy difference where neither run got there.";
+        let (figures, skipped) = (layers.effect, &layers.effect_skipped);
+        sections.push(section(
+            "forest-effect",
+            "Forest effect",
+            intro,
+            figures,
+            skipped,
+        ));
     }
-    sections.push(distributions(dir, input, &base, summary)?);
+    sections.push(distributions(
+        dir,
+        input,
+        base,
+        layers.passages.as_ref(),
+        summary,
+    )?);
     if let Some(t) = trajectories(dir, input)? {
         sections.push(t);
     }
@@ -49,56 +114,21 @@ fn section(
     }
 }
 
-/// The site map and the key rasters over the hillshade.
-fn maps(dir: &Path, input: &ReportInput<'_>, base: &MapBase) -> Result<FigureSection, ReportError> {
-    let mut figures = vec![base.site_map(dir, &input.scenario.name)?];
-    let mut skipped = Vec::new();
-    for name in MAPPED {
-        if name == "Nr_tree_impacts" && input.stems.is_empty() {
-            continue;
-        }
-        let Some(grid) = input.raster(name) else {
-            skipped.push(format!("{name} (not written by this run)"));
-            continue;
-        };
-        match base.layer_map(dir, name, &grid)? {
-            Some(fig) => figures.push(fig),
-            None => skipped.push(format!("{name} (no cell to colour)")),
-        }
-    }
-    let intro = "Each raster over the relief of the DEM (hillshade lit from the north-west), \
-                 with the release cells and points as squares and the evaluation screens as \
-                 labelled lines. Uncoloured: no rock got there.";
-    Ok(section("maps", "Maps", intro, figures, &skipped))
-}
-
-/// The forest effect's maps, when the report has one.
-fn forest_effect(
+/// The site map, then the key rasters' `maps` in the order of [`MAPPED`].
+fn maps(
     dir: &Path,
     input: &ReportInput<'_>,
     base: &MapBase,
-) -> Result<Option<FigureSection>, ReportError> {
-    let Some(effect) = input.forest_effect else {
-        return Ok(None);
-    };
-    let mut figures = Vec::new();
-    let mut skipped = Vec::new();
-    for (name, grid) in effect.rasters() {
-        match base.layer_map(dir, name, grid)? {
-            Some(fig) => figures.push(fig),
-            None => skipped.push(format!("{name} (no cell to colour)")),
-        }
-    }
-    let intro = "The same rocks run with the forest minus without it. Negative (blue): the \
-                 forest lowers the hazard. The reach-probability difference is uncoloured \
-                 where it is zero; the energy difference where neither run got there.";
-    Ok(Some(section(
-        "forest-effect",
-        "Forest effect",
-        intro,
-        figures,
-        &skipped,
-    )))
+    mut maps: Vec<(usize, Figure)>,
+    skipped: &[String],
+) -> Result<FigureSection, ReportError> {
+    maps.sort_by_key(|(k, _)| *k);
+    let mut figures = vec![base.site_map(dir, &input.scenario.name)?];
+    figures.extend(maps.into_iter().map(|(_, f)| f));
+    let intro = "Each raster over the relief of the DEM (hillshade lit from the north-west), \
+                 with the release cells and points as squares and the evaluation screens as \
+                 labelled lines. Uncoloured: no rock got there.";
+    Ok(section("maps", "Maps", intro, figures, skipped))
 }
 
 /// Run-out and screen distributions, the speed and slope profiles.
@@ -106,6 +136,7 @@ fn distributions(
     dir: &Path,
     input: &ReportInput<'_>,
     base: &MapBase,
+    passages: Option<&Grid<f64>>,
     summary: &Value,
 ) -> Result<FigureSection, ReportError> {
     let r = input.results;
@@ -116,10 +147,9 @@ fn distributions(
     let mut skipped = Vec::new();
     let bin_m = profile.first().map_or(0.0, |b| b.to_m - b.from_m);
     let sources = base.release_positions_m();
-    let passages = input.raster("Nr_passages");
     let dem = &input.scenario.terrain.dem;
     match passages
-        .map(|p| profiles::slope_profile(dir, dem, &p, &sources, bin_m))
+        .map(|p| profiles::slope_profile(dir, dem, p, &sources, bin_m))
         .transpose()?
     {
         Some(Some(fig)) => figures.push(fig),
