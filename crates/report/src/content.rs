@@ -208,9 +208,9 @@ pub(crate) fn screens(s: &Value) -> Table {
         "E mean (kJ)",
         "E p95",
         "E max",
-        "jump mean (m)",
-        "jump p95",
-        "jump max",
+        "passing height mean (m)",
+        "height p95",
+        "height max",
     ];
     let rows = (s["screens"].as_array().into_iter().flatten())
         .map(|sc| {
