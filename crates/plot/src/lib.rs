@@ -143,13 +143,6 @@ pub struct ColorScale {
 }
 
 impl ColorScale {
-    /// The colour the colour bar gives `value` (see [`ColorMapper::color`]); `None` for a
-    /// non-finite value or an invalid scale (see [`ColorScale::min`]). To colour many values,
-    /// check the scale once with [`ColorScale::mapper`].
-    pub fn color_of(&self, value: f64) -> Option<(u8, u8, u8)> {
-        self.mapper().ok()?.color(value)
-    }
-
     /// The scale, checked once, as a value-to-colour map.
     ///
     /// # Errors

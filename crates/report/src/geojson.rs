@@ -43,6 +43,11 @@ pub fn thin(rows: &[TrajectoryRow], spacing_m: f64) -> Vec<&TrajectoryRow> {
     kept
 }
 
+/// `v` rounded to three decimals (mm for coordinates in m).
+fn mm(v: f64) -> f64 {
+    (v * 1000.0).round() / 1000.0
+}
+
 /// Total kinetic energy of a row, kJ.
 pub fn energy_kj(r: &TrajectoryRow) -> f64 {
     (r.e_trans_j + r.e_rot_j) / 1e3
@@ -51,14 +56,13 @@ pub fn energy_kj(r: &TrajectoryRow) -> f64 {
 /// The GeoJSON `FeatureCollection` of the recorded trajectories.
 pub fn feature_collection(rows: &[TrajectoryRow], crs: Option<&Crs>, cell_size_m: f64) -> Value {
     let spacing = vertex_spacing_m(cell_size_m);
-    let round = |v: f64| (v * 1000.0).round() / 1000.0;
     let features: Vec<Value> = by_rock(rows)
         .into_iter()
         .filter(|rock| rock.len() >= 2)
         .map(|rock| {
             let coords: Vec<Value> = thin(rock, spacing)
                 .into_iter()
-                .map(|r| json!([round(r.x_m), round(r.y_m), round(r.z_m)]))
+                .map(|r| json!([mm(r.x_m), mm(r.y_m), mm(r.z_m)]))
                 .collect();
             let speed = |r: &TrajectoryRow| {
                 (r.vx_ms * r.vx_ms + r.vy_ms * r.vy_ms + r.vz_ms * r.vz_ms).sqrt()
@@ -69,9 +73,9 @@ pub fn feature_collection(rows: &[TrajectoryRow], crs: Option<&Crs>, cell_size_m
                 "type": "Feature",
                 "properties": {
                     "rock_id": first.rock_id,
-                    "duration_s": round(last.t_s - first.t_s),
-                    "max_speed_ms": round(max(&speed)),
-                    "max_energy_kj": round(max(&energy_kj)),
+                    "duration_s": mm(last.t_s - first.t_s),
+                    "max_speed_ms": mm(max(&speed)),
+                    "max_energy_kj": mm(max(&energy_kj)),
                     "tree_impacts": rock.iter().filter(|r| r.event == Event::Tree).count(),
                     "end_event": last.event.name(),
                     "vertices": coords.len(),
@@ -86,17 +90,16 @@ pub fn feature_collection(rows: &[TrajectoryRow], crs: Option<&Crs>, cell_size_m
 /// The stems as a GeoJSON `FeatureCollection` of points `[x, y]` with their DBH (cm),
 /// height (m) and species.
 pub fn stems_collection(stems: &[Stem], crs: Option<&Crs>) -> Value {
-    let round = |v: f64| (v * 1000.0).round() / 1000.0;
     let features: Vec<Value> = (stems.iter())
         .map(|s| {
             json!({
                 "type": "Feature",
                 "properties": {
-                    "dbh_cm": round(s.dbh_cm),
-                    "height_m": round(s.height_m),
+                    "dbh_cm": mm(s.dbh_cm),
+                    "height_m": mm(s.height_m),
                     "species": s.species.name(),
                 },
-                "geometry": {"type": "Point", "coordinates": [round(s.x_m), round(s.y_m)]},
+                "geometry": {"type": "Point", "coordinates": [mm(s.x_m), mm(s.y_m)]},
             })
         })
         .collect();

@@ -120,7 +120,7 @@ pub fn write(out: &Path, input: &ReportInput<'_>) -> Result<Vec<PathBuf>, Report
             continue;
         };
         written.push(gis::write_style(out, &name, &grid)?);
-        layers.draw(&dir, input, &base, &name, &grid)?;
+        layers.draw(&dir, input, &base, &name, grid)?;
     }
     written.extend(gis::write_vectors(out, input)?);
     let summary = input.results.summary_json();

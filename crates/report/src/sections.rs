@@ -28,8 +28,24 @@ pub(crate) struct LayerMaps {
 
 impl LayerMaps {
     /// Maps the raster `name` (`grid`) if the report shows it: a key raster of [`MAPPED`]
-    /// (`Nr_tree_impacts` only with stems) or a forest-effect difference.
+    /// (`Nr_tree_impacts` only with stems) or a forest-effect difference; keeps
+    /// `Nr_passages` for the slope profile.
     pub(crate) fn draw(
+        &mut self,
+        dir: &Path,
+        input: &ReportInput<'_>,
+        base: &MapBase,
+        name: &str,
+        grid: Grid<f64>,
+    ) -> Result<(), ReportError> {
+        self.map(dir, input, base, name, &grid)?;
+        if name == "Nr_passages" {
+            self.passages = Some(grid);
+        }
+        Ok(())
+    }
+
+    fn map(
         &mut self,
         dir: &Path,
         input: &ReportInput<'_>,
@@ -37,9 +53,6 @@ impl LayerMaps {
         name: &str,
         grid: &Grid<f64>,
     ) -> Result<(), ReportError> {
-        if name == "Nr_passages" {
-            self.passages = Some(grid.clone());
-        }
         let effect = name.starts_with("Forest_effect_");
         let key = MAPPED.iter().position(|m| *m == name);
         let stemless = name == "Nr_tree_impacts" && input.stems.is_empty();
