@@ -201,11 +201,14 @@ fn lumped_settings(l: &LumpedSettings) -> String {
     };
     format!(
         "lumped: tangential rebound law {}, MOH {moh} per rebound, r_t ± {} %, slope lowered by \
-         up to {}°, lateral deviation ≤ {}°, stop below {} m/s",
+         up to {}°, sideways roughness tilt × {}, lateral deviation ≤ {}°, lift-off above {} × MOH, \
+         stop below {} m/s",
         l.tangential.name(),
         100.0 * l.rt_variation,
         l.slope_reduction_max_deg,
+        l.roughness_tilt_factor,
         l.max_lateral_deviation_deg,
+        l.lift_off_obstacle_factor,
         l.stop_velocity_ms
     )
 }

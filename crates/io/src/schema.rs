@@ -135,6 +135,8 @@ pub struct LumpedSec {
     pub slope_reduction_max_deg: Option<f64>,
     pub max_lateral_deviation_deg: Option<f64>,
     pub stop_velocity_ms: Option<f64>,
+    pub roughness_tilt_factor: Option<f64>,
+    pub lift_off_obstacle_factor: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

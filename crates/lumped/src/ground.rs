@@ -125,8 +125,10 @@ impl Ground {
         self.lattice.height_m(x_m, y_m)
     }
 
-    /// The first time the rock centre, flying from `p` with velocity `v` under gravity, comes
-    /// down onto the offset surface `ground + offset_m` — exactly: along the straight
+    /// The first time the centre of a rock of radius `offset_m`, flying from `p` with velocity
+    /// `v` under gravity, comes down onto the offset surface `ground + offset_m / n_z` (the
+    /// centre `offset_m` from the ground along the normal, with n_z of each patch's centre
+    /// normal: exact on planar patches) — exactly: along the straight
     /// horizontal path the offset surface of one bilinear patch is a quadratic in time, and
     /// so is the parabola's height, so their gap is a quadratic whose roots are solved in
     /// closed form patch after patch (the path is walked patch by patch, never stepped past
@@ -146,13 +148,24 @@ impl Ground {
             let Some((z00, a, b, c)) = lat.patch(piece.i, piece.j) else {
                 return FlightEnd::Exit { t_s: piece.s_a };
             };
+            // the centre touches the ground R from it along the normal: R/n_z above it, with
+            // the patch's normal at its centre (exact on a planar patch)
+            let (gx, gy) = ((a + 0.5 * c) * inv_h, (b + 0.5 * c) * inv_h);
+            let off = offset_m * (1.0 + gx * gx + gy * gy).sqrt();
             // offset surface along the path: S(t) = s0 + s1 t + s2 t²
             let (ul, vl) = (u0 - piece.i as f64, v0 - piece.j as f64);
-            let s0 = z00 + offset_m + a * ul + b * vl + c * ul * vl;
+            let s0 = z00 + off + a * ul + b * vl + c * ul * vl;
             let s1 = a * du + b * dv + c * (ul * dv + vl * du);
             let s2 = c * du * dv;
             // gap(t) = q0 + q1 t + q2 t²
             let (q0, q1, q2) = (p.z - s0, v.z - s1, -half_g - s2);
+            // entering a patch whose offset surface steps up above the centre: the rock
+            // meets it at the patch's edge (only a flight's start may begin below the surface
+            // and rise out of it, a take-off)
+            let t_a = piece.s_a;
+            if t_a > 0.0 && q0 + t_a * (q1 + t_a * q2) < 0.0 {
+                return FlightEnd::Land { t_s: t_a };
+            }
             if let Some(t) = first_descending_root(q0, q1, q2, piece.s_a, piece.s_b) {
                 return FlightEnd::Land { t_s: t };
             }
@@ -161,6 +174,57 @@ impl Ground {
             }
         }
         FlightEnd::Timeout
+    }
+
+    /// Height of the centre of a rock of radius `radius_m` resting on the ground at (x, y),
+    /// m: `z + R / n_z`, the centre R from the ground along the normal (seed 000 treats the
+    /// rock as a sphere on the slope). n_z comes from the DEM's gradient by central
+    /// differences at the four corners of the bilinear patch, interpolated bilinearly: a
+    /// normal field without the jumps of the patches' own gradients at their edges, so that
+    /// the centre's height is continuous over breaks of slope. `None` off the surface.
+    pub fn centre_z_m(&self, x_m: f64, y_m: f64, radius_m: f64) -> Option<f64> {
+        let lat = &self.lattice;
+        let z = lat.height_m(x_m, y_m)?;
+        let (i, j, u, v) = lat.patch_of(x_m, y_m)?;
+        let mut g = [(0.0, 0.0); 4];
+        for (k, (di, dj)) in [(0, 0), (1, 0), (0, 1), (1, 1)].into_iter().enumerate() {
+            g[k] = self.node_gradient(i + di, j + dj);
+        }
+        let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
+        let gx = lerp(lerp(g[0].0, g[1].0, u), lerp(g[2].0, g[3].0, u), v);
+        let gy = lerp(lerp(g[0].1, g[1].1, u), lerp(g[2].1, g[3].1, u), v);
+        Some(z + radius_m * (1.0 + gx * gx + gy * gy).sqrt())
+    }
+
+    /// Height of the offset surface a flight lands on at (x, y), m: the ground plus R / n_z
+    /// with the normal at the centre of the bilinear patch (as in [`Ground::fly`]); `None`
+    /// off the surface.
+    pub fn flight_floor_z_m(&self, x_m: f64, y_m: f64, radius_m: f64) -> Option<f64> {
+        let lat = &self.lattice;
+        let (i, j, u, v) = lat.patch_of(x_m, y_m)?;
+        let (z00, a, b, c) = lat.patch(i, j)?;
+        let inv_h = lat.inv_cell_size();
+        let (gx, gy) = ((a + 0.5 * c) * inv_h, (b + 0.5 * c) * inv_h);
+        let z = z00 + a * u + b * v + c * u * v;
+        Some(z + radius_m * (1.0 + gx * gx + gy * gy).sqrt())
+    }
+
+    /// DEM gradient (∂z/∂x, ∂z/∂y) at lattice node (i, j) by central differences, one-sided
+    /// where a neighbour is missing, 0 where both are.
+    fn node_gradient(&self, i: i64, j: i64) -> (f64, f64) {
+        let lat = &self.lattice;
+        let z = lat.node_z(i, j);
+        let h = lat.cell_size_m();
+        let diff = |lo: f64, hi: f64| match (lo.is_finite(), hi.is_finite()) {
+            (true, true) => (hi - lo) / (2.0 * h),
+            (true, false) => (z - lo) / h,
+            (false, true) => (hi - z) / h,
+            (false, false) => 0.0,
+        };
+        let gx = diff(lat.node_z(i - 1, j), lat.node_z(i + 1, j));
+        let gy = diff(lat.node_z(i, j - 1), lat.node_z(i, j + 1));
+        let ok = |g: f64| if g.is_finite() { g } else { 0.0 };
+        (ok(gx), ok(gy))
     }
 
     /// Up to eight neighbours of cell `index` with a valid height: (index, dx, dy) in cells.

@@ -4,10 +4,13 @@
 //! exact parabolas; the landing is the first root of a quadratic per bilinear DEM patch along
 //! the path ([`ground`]), so nothing tunnels and no cell is stepped past. At a landing it
 //! rebounds with r_n from the surface class and r_t from the obstacle height (eqs. 3–4) in
-//! the manner of Pfeiffer & Bowen ([`rebound`]); its fall direction follows a multiple-fall-
-//! direction rule ([`direction`]); small rebounds turn into rolling against a roughness-
-//! dependent resistance ([`roll`]); stems within R + DBH/2 of its path below their top take
-//! energy by eqs. 1–2 and turn it by table 1 ([`trees`]); nets catch it or take their energy.
+//! the manner of Pfeiffer & Bowen on the local surface lowered by 0–4° and, between cells,
+//! tilted sideways by the roughness, so its heading follows the terrain ([`rebound`],
+//! [`contact`]); a rebound too low to clear the obstacles puts it on the ground, where it
+//! rolls against the surface's friction angle until it stops below 0.1 m/s ([`roll`]); stems
+//! within R + DBH/2 of its path below their top take energy by eqs. 1–2 and turn it by
+//! table 1 ([`trees`]); nets catch it or take their energy. docs/lumped-model.md lists every
+//! rule with its source.
 //!
 //! [`LumpedModel::run`] simulates every rock on a pool of threads. Each rock draws from its
 //! own random stream keyed by (seed, source, rock index) and reports to its worker's
@@ -15,11 +18,14 @@
 //! of threads.
 
 pub mod body;
-pub mod direction;
+pub mod contact;
 pub mod forestry;
 pub mod ground;
+mod obstacles;
 pub mod rebound;
+mod recorder;
 pub mod roll;
+mod segment;
 pub mod trajectory;
 pub mod trees;
 pub mod vec3;

@@ -1,7 +1,7 @@
 //! A ground rebound (seed 000 §2.5; Pfeiffer & Bowen 1989 as adapted by Dorren et al. 2004).
 //!
-//! In the frame of the (randomly flattened) local surface:
-//! - **normal**: `v_n⁺ = r_n · |v_n⁻|`, r_n of the cell's surface class;
+//! In the frame of the local surface, lowered and tilted as below:
+//! - **normal**: `v_n⁺ = r_n · |v_n⁻|`, r_n of the cell's surface class (seed 000 §2.5);
 //! - **tangential with rotation**: Pfeiffer & Bowen (1989, CRSP) let the rock leave the ground
 //!   rolling, its tangential speed set by the tangential and rotational energy it brought in,
 //!   scaled by a friction and a scaling factor: `v_t⁺ = √(R²(I ω⁻² + m v_t⁻²) f(F) SF /
@@ -12,25 +12,30 @@
 //!   keeps `√r_t · v_t⁻`, and the rebound's tangential and rotational energy is `r_t` times
 //!   what came in.
 //! - the alternative [`TangentialLaw::VelocityRatio`] reads r_t as the velocity ratio seed 000
-//!   §3.2 measured on its films, with the angular momentum about the contact point (which the
-//!   ground's friction impulse cannot change while the rock is brought to rolling):
-//!   `v_t⁺ = r_t · (m R² v_t⁻ + I R ω⁻) / (m R² + I)`; a rolling rock keeps `r_t v_t⁻`, a
-//!   sliding rock without spin is first brought to rolling (`r_t · 5/7 · v_t⁻` for a sphere),
-//!   backspin slows it or turns it back.
+//!   §3.2 measured on its films, with the angular momentum about the contact point:
+//!   `v_t⁺ = r_t · (m R² v_t⁻ + I R ω⁻) / (m R² + I)`; backspin can turn the rock back.
 //! - `r_t = 1 / (1 + MOH/R)` (eq. 3), MOH drawn per rebound from the cover classes
 //!   70/20/10 % or their weighted mean (eq. 4), then varied uniformly by ±`rt_variation`
 //!   (§2.5: 10 %) and capped at 1.
-//! - the local slope angle is lowered by a uniform 0–`slope_reduction_max_deg` (§2.5: 4°).
+//! - **the surface**: the local slope angle is lowered by a uniform 0–`slope_reduction_max_deg`
+//!   (§2.5: 4°, "similar to the varying impact angle based on the surface roughness" of Jones
+//!   et al. 2000), and tilted by the roughness met ([`roughness_tilt`]: PlatRock's form of
+//!   Jones et al.'s rule, up to `atan(MOH/R)`), towards the rock at every rebound and, at the
+//!   first rebound in a new cell only (§2.3: the fall direction changes only between two
+//!   cells), sideways. The outgoing heading so follows from the incoming motion, the DEM's
+//!   bilinear normal and the obstacles met; [`limit_heading`] keeps it within 45° of the
+//!   incoming heading (§2.3).
 //!
 //! With r_n ≤ 1 and r_t ≤ 1 the kinetic energy after the rebound never exceeds the energy
 //! before. Pfeiffer & Bowen: the outgoing rolling energy `½ m v_t⁺²/k` is r_t times the
 //! incoming tangential and rotational energy `½ m v_t⁻² + ½ I ω⁻²`. Velocity ratio:
 //! `½(m + I/R²)(k v + (1−k) R ω)² ≤ ½ m v² + ½ I ω²` (convexity). Spin about other axes is
-//! given up in both.
+//! given up in both. Tilting the surface or turning the heading changes no speed.
 
 use crate::V3;
 use crate::body::RockBody;
 use crate::ground::CellParams;
+use crate::vec3::rotate_horizontal;
 use rand::RngExt;
 use rockfall_rng::Rng;
 use rockfall_scenario::{LumpedSettings, MohMode, TangentialLaw};
@@ -100,8 +105,54 @@ pub fn downslope(n: V3) -> V3 {
         .unwrap_or(V3::new(1.0, 0.0, 0.0))
 }
 
+/// The surface normal `n` tilted by the roughness met at a rebound, PlatRock's rule: an angle
+/// `u₁ · atan(MOH/R)` (u₁ uniform in [0, 1)), a share u₂ (uniform) of it towards the incoming
+/// rock ("braking": the face it hits is steeper against its motion) and the rest `1 − u₂`
+/// sideways, turned about its direction of motion `along` (a unit tangent of the surface)
+/// with a random sign ("deviation"); both times `factor` (`[lumped] roughness_tilt_factor`,
+/// 1 by default). With `sideways` false the sideways share is left out (within a cell the
+/// fall direction does not change, seed 000 §2.3).
+///
+/// Source: PlatRock 0.4.6, `BounceModel.set_updated_normal3D` (the code behind Noël et al.
+/// 2021, Geosciences 11:188), itself the 3-D form of the roughness-based impact angle of
+/// Jones et al. (2000, CRSP 4.0) that seed 000 §2.5 names as the model of its 0–4° slope
+/// reduction; RockGIS (Matas et al. 2017) turns its contact frame the same two ways. Seed 000's
+/// reduction ([`flatten`]) is kept beside it: applying both is ours. MOH is seed 000's
+/// obstacle height (eq. 3), PlatRock's "roughness".
+#[inline]
+pub fn roughness_tilt(
+    n: V3,
+    along: V3,
+    moh_m: f64,
+    radius_m: f64,
+    factor: f64,
+    sideways: bool,
+    rng: &mut Rng,
+) -> V3 {
+    let u1: f64 = rng.random();
+    let u2: f64 = rng.random();
+    let sign = if rng.random::<bool>() { 1.0 } else { -1.0 };
+    let angle = factor * u1 * (moh_m / radius_m).atan();
+    if angle == 0.0 {
+        return n;
+    }
+    // braking: turned about the in-plane axis across the motion, towards the rock
+    let (s, c) = (angle * u2).sin_cos();
+    let braked = n * c - along * s;
+    if !sideways {
+        return braked.unit().unwrap_or(n);
+    }
+    // deviation: turned about the direction of motion (Rodrigues' rotation formula)
+    let (s, c) = (sign * angle * (1.0 - u2)).sin_cos();
+    let turned = braked * c + along.cross(braked) * s + along * (along.dot(braked) * (1.0 - c));
+    turned.unit().unwrap_or(n)
+}
+
 /// The rebound of `body` arriving with velocity `v` and angular velocity `w` (world frame) on
-/// ground of true normal `n_true` in a cell with parameters `cell`.
+/// ground of true normal `n_true` in a cell with parameters `cell`; `new_cell` when the cell
+/// differs from that of the rock's previous rebound (the roughness then tilts the surface
+/// sideways as well).
+#[allow(clippy::too_many_arguments)]
 pub fn rebound(
     body: &RockBody,
     v: V3,
@@ -109,16 +160,28 @@ pub fn rebound(
     n_true: V3,
     cell: &CellParams,
     settings: &LumpedSettings,
+    new_cell: bool,
     rng: &mut Rng,
 ) -> Rebound {
     let reduce = settings.slope_reduction_max_deg.to_radians() * rng.random::<f64>();
-    let n = flatten(n_true, reduce);
-    let vn_in = v.dot(n);
-    let vt_vec = v - n * vn_in;
-    let tangent = vt_vec.unit().unwrap_or_else(|| downslope(n));
-    let vt_in = vt_vec.dot(tangent);
-    let omega_in = w.dot(n.cross(tangent));
     let moh = obstacle_height_m(cell, settings.moh, rng);
+    let mut n = flatten(n_true, reduce);
+    let incoming_t = |n: V3| (v - n * v.dot(n)).unit().unwrap_or_else(|| downslope(n));
+    if settings.roughness_tilt_factor > 0.0 {
+        n = roughness_tilt(
+            n,
+            incoming_t(n),
+            moh,
+            body.radius_m,
+            settings.roughness_tilt_factor,
+            new_cell,
+            rng,
+        );
+    }
+    let vn_in = v.dot(n);
+    let tangent = incoming_t(n);
+    let vt_in = v.dot(tangent);
+    let omega_in = w.dot(n.cross(tangent));
     let variation = 1.0 + settings.rt_variation * (2.0 * rng.random::<f64>() - 1.0);
     let r_t = (tangential_coefficient(moh, body.radius_m) * variation).clamp(0.0, 1.0);
     let vt_ms = tangential_speed_ms(settings.tangential, r_t, vt_in, omega_in, body);
@@ -154,44 +217,65 @@ pub fn tangential_speed_ms(
     }
 }
 
-/// Squared speed normal to the slope that lifts a rock's centre by `moh_m` against gravity's
-/// normal component `g n_z`: `2 g n_z MOH`, m²/s².
+/// Whether a rock leaving the ground with speed `vn_ms` (m/s) normal to the true surface
+/// (upward normal with vertical component `n_z`) flies on, having met an obstacle of height
+/// `moh_m` (m): its centre must rise by more than `factor · MOH` against gravity's normal
+/// component, `v_n² > 2 g n_z · factor · MOH`, and leave faster than the stop velocity
+/// `stop_ms`. Otherwise it stays on the ground and rolls.
+///
+/// **Ours.** Seed 000 says that the model accounts for flying, rolling and bouncing and that
+/// small rebounds become rolling, but not where the switch lies; neither do the sources we
+/// could read (docs/lumped-model.md). A rebound lower than the obstacles it meets cannot carry
+/// the rock over them, so the rock stays among them, on the ground. `factor` is
+/// `[lumped] lift_off_obstacle_factor` (1 by default; 0 keeps only the stop velocity).
 #[inline]
-pub fn clearing_speed2(moh_m: f64, n_z: f64) -> f64 {
+pub fn lifts_off(vn_ms: f64, moh_m: f64, n_z: f64, factor: f64, stop_ms: f64) -> bool {
+    vn_ms > stop_ms && vn_ms * vn_ms > clears_obstacles_speed2(factor * moh_m, n_z)
+}
+
+/// Squared speed that lifts a rock's centre by the obstacle height `moh_m` (m) against
+/// gravity's component `g n_z` normal to the slope: `2 g n_z MOH`, m²/s².
+#[inline]
+pub fn clears_obstacles_speed2(moh_m: f64, n_z: f64) -> f64 {
     2.0 * crate::G_MS2 * n_z * moh_m
 }
 
-/// Rough rolling as a sequence of short bounces (model notes, engine 1: "treated as a
-/// sequence of short bounces"): a rock that met an obstacle of height `moh_m` leaves the
-/// ground at least fast enough to clear it, `v_n ≥ sqrt(2 g n_z MOH)` (g n_z: gravity normal
-/// to the slope). The energy of that lift comes out of the tangential and rotational motion,
-/// so the total is unchanged; `None` when the rock has not enough energy to clear the
-/// obstacle — it rolls.
-///
-/// Returns the new (v_t, v_n). `vt_ms` ≥ 0, `k` = [`RockBody::rolling_factor`].
+/// The outgoing velocity and angular velocity: speed `vt` (m/s) along the unit tangent `t` of
+/// the surface of upward normal `n`, `vn` (m/s) along `n`; the rock rolls, `ω = vt/R` about
+/// `n × t` (R = `radius_m`).
 #[inline]
-pub fn hop(vt_ms: f64, vn_ms: f64, moh_m: f64, n_z: f64, k: f64) -> Option<(f64, f64)> {
-    let vn_min2 = clearing_speed2(moh_m, n_z);
-    if vn_ms * vn_ms >= vn_min2 {
-        return Some((vt_ms, vn_ms));
-    }
-    // ½(m + I/R²) v_t² = ½ m v_t² / k: take ½ m (v_n,min² − v_n²) from it
-    let vt2 = vt_ms * vt_ms - k * (vn_min2 - vn_ms * vn_ms);
-    (vt2 > 0.0).then(|| (vt2.sqrt(), vn_min2.sqrt()))
-}
-
-/// The outgoing velocity and angular velocity: speed `vt` along the tangent of surface `n`
-/// whose horizontal direction is `dir` (a horizontal unit vector), `vn` along `n`; the rock
-/// rolls, `ω = vt/R` about `n × t`.
-#[inline]
-pub fn compose(n: V3, dir: (f64, f64), vt: f64, vn: f64, radius_m: f64) -> (V3, V3) {
-    let tz = -(n.x * dir.0 + n.y * dir.1) / n.z;
-    let t = V3::new(dir.0, dir.1, tz)
-        .unit()
-        .unwrap_or(V3::new(1.0, 0.0, 0.0));
+pub fn compose(n: V3, t: V3, vt: f64, vn: f64, radius_m: f64) -> (V3, V3) {
     let v = t * vt + n * vn;
     let w = n.cross(t) * (vt / radius_m);
     (v, w)
+}
+
+/// Turns `v` and `w` about the vertical so that the horizontal heading of `v` lies within
+/// `max_dev_rad` of `incoming` (a horizontal unit vector; `None`: no limit), seed 000 §2.3:
+/// "after a rebound on the slope surface, the rock cannot deviate more than 45° laterally
+/// from its fall direction before the rebound". Speeds are unchanged.
+#[inline]
+pub fn limit_heading(v: V3, w: V3, incoming: Option<(f64, f64)>, max_dev_rad: f64) -> (V3, V3) {
+    let Some((ix, iy)) = incoming else {
+        return (v, w);
+    };
+    if v.horizontal_norm() < 1e-12 {
+        return (v, w);
+    }
+    let dev = wrap(v.y.atan2(v.x) - iy.atan2(ix));
+    if dev.abs() <= max_dev_rad {
+        return (v, w);
+    }
+    let turn = dev.clamp(-max_dev_rad, max_dev_rad) - dev;
+    (rotate_horizontal(v, turn), rotate_horizontal(w, turn))
+}
+
+/// An angle wrapped to (−π, π].
+#[inline]
+pub fn wrap(a: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let r = a.rem_euclid(TAU);
+    if r > PI { r - TAU } else { r }
 }
 
 #[cfg(test)]
@@ -235,6 +319,7 @@ mod tests {
             V3::UP,
             &cell(0.4, 0.125),
             &settings(law),
+            true,
             &mut rng,
         );
         assert!((r.r_t - 0.8).abs() < 1e-12);
@@ -270,23 +355,81 @@ mod tests {
         let expected = (0.8 * (5.0 / 7.0 * 25.0 + 2.0 / 7.0 * 400.0f64)).sqrt();
         assert!((r.vt_ms - expected).abs() < 1e-12, "{}", r.vt_ms);
         // the outgoing rolling energy is r_t times the incoming tangential and spin energy
-        let (v2, w2) = compose(r.normal, (1.0, 0.0), r.vt_ms, 0.0, b.radius_m);
+        let (v2, w2) = compose(r.normal, r.tangent, r.vt_ms, 0.0, b.radius_m);
         let e_in = energy(&b, V3::new(v.x, v.y, 0.0), w);
         assert!((energy(&b, v2, w2) - 0.8 * e_in).abs() < 1e-9 * e_in);
     }
 
     #[test]
-    fn hops_clear_the_obstacle_without_creating_energy() {
-        let (m, k) = (1000.0, 5.0 / 7.0);
-        let e = |vt: f64, vn: f64| 0.5 * m * vt * vt / k + 0.5 * m * vn * vn;
-        let (vt, vn) = hop(10.0, 0.2, 0.2, 0.8, k).unwrap();
-        assert!((vn * vn - 2.0 * crate::G_MS2 * 0.8 * 0.2).abs() < 1e-12);
-        assert!((e(vt, vn) - e(10.0, 0.2)).abs() < 1e-9 * e(10.0, 0.2));
-        // fast enough already: unchanged; too slow: rolls
-        assert_eq!(hop(10.0, 3.0, 0.2, 0.8, k), Some((10.0, 3.0)));
-        assert_eq!(hop(1.0, 0.0, 0.2, 0.8, k), None);
-        // smooth ground: no lift needed
-        assert_eq!(hop(1.0, 0.0, 0.0, 0.8, k), Some((1.0, 0.0)));
+    fn lift_off_needs_more_than_the_obstacle_and_the_stop_velocity() {
+        // v_n² must exceed 2 g n_z MOH: 2 · 9.81 · 0.8 · 0.2 = 3.139 m²/s²
+        let vn_min = (2.0 * crate::G_MS2 * 0.8 * 0.2f64).sqrt();
+        assert!(lifts_off(vn_min * 1.01, 0.2, 0.8, 1.0, 0.1));
+        assert!(!lifts_off(vn_min * 0.99, 0.2, 0.8, 1.0, 0.1));
+        // the factor scales the obstacle; on smooth ground the stop velocity decides
+        assert!(lifts_off(vn_min * 0.99, 0.2, 0.8, 0.5, 0.1));
+        assert!(lifts_off(0.11, 0.0, 0.8, 1.0, 0.1));
+        assert!(!lifts_off(0.09, 0.0, 0.8, 1.0, 0.1));
+        assert!(!lifts_off(-5.0, 0.0, 0.8, 1.0, 0.1));
+    }
+
+    #[test]
+    fn heading_is_kept_within_the_limit() {
+        let lim = 45f64.to_radians();
+        let w = V3::new(0.0, 0.0, 1.0);
+        // 60° to the left of +x: turned back to 45°, speed kept
+        let v = V3::new(60f64.to_radians().cos(), 60f64.to_radians().sin(), -0.3) * 4.0;
+        let (v2, w2) = limit_heading(v, w, Some((1.0, 0.0)), lim);
+        assert!((v2.y.atan2(v2.x).to_degrees() - 45.0).abs() < 1e-9);
+        assert!((v2.norm() - v.norm()).abs() < 1e-12 && v2.z == v.z);
+        assert_eq!(w2, w);
+        // 170° to the right: turned to −45°
+        let v = V3::new(
+            (-170f64).to_radians().cos(),
+            (-170f64).to_radians().sin(),
+            0.0,
+        );
+        let (v2, _) = limit_heading(v, w, Some((1.0, 0.0)), lim);
+        assert!((v2.y.atan2(v2.x).to_degrees() + 45.0).abs() < 1e-9);
+        // within the limit: unchanged
+        let v = V3::new(1.0, 0.5, 0.0);
+        assert_eq!(limit_heading(v, w, Some((1.0, 0.0)), lim).0, v);
+    }
+
+    #[test]
+    fn roughness_tilt_stays_within_atan_moh_over_r_and_brakes() {
+        let mut rng = rockfall_rng::stream(5, rockfall_rng::Purpose::Sampling, &[]);
+        let n = V3::new(-(35f64.to_radians().sin()), 0.0, 35f64.to_radians().cos());
+        let along = downslope(n);
+        let across = n.cross(along);
+        let (moh, r) = (0.2f64, 0.5f64);
+        let max = (moh / r).atan();
+        let (mut left, mut right, mut largest) = (0, 0, 0.0f64);
+        for _ in 0..20_000 {
+            let t = roughness_tilt(n, along, moh, r, 1.0, true, &mut rng);
+            assert!((t.norm() - 1.0).abs() < 1e-12);
+            let angle = t.dot(n).clamp(-1.0, 1.0).acos();
+            assert!(angle <= max + 1e-12, "{angle} > {max}");
+            largest = largest.max(angle);
+            // braking: the face leans against the motion, never with it
+            assert!(t.dot(along) <= 1e-12);
+            if t.dot(across) > 1e-12 {
+                left += 1
+            } else if t.dot(across) < -1e-12 {
+                right += 1
+            }
+            // within a cell: no sideways share
+            let b = roughness_tilt(n, along, moh, r, 1.0, false, &mut rng);
+            assert!(b.dot(across).abs() < 1e-12 && b.dot(along) <= 1e-12);
+        }
+        assert!(largest > 0.9 * max, "{largest} vs {max}");
+        assert!(
+            (left as f64 / right as f64 - 1.0).abs() < 0.05,
+            "{left} / {right}"
+        );
+        // no roughness or a zero factor: no tilt
+        assert_eq!(roughness_tilt(n, along, 0.0, r, 1.0, true, &mut rng), n);
+        assert_eq!(roughness_tilt(n, along, moh, r, 0.0, true, &mut rng), n);
     }
 
     #[test]
@@ -301,7 +444,8 @@ mod tests {
     #[test]
     fn compose_is_tangent_and_rolling() {
         let n = V3::new(-0.5, 0.1, 1.0).unit().unwrap();
-        let (v, w) = compose(n, (0.6, 0.8), 3.0, 0.0, 0.5);
+        let t = downslope(n);
+        let (v, w) = compose(n, t, 3.0, 0.0, 0.5);
         assert!(v.dot(n).abs() < 1e-12);
         assert!((v.norm() - 3.0).abs() < 1e-12);
         // rolling without slip: contact point at rest, v + w × (−R n) = 0
@@ -331,9 +475,12 @@ mod tests {
                         .unit()
                         .unwrap();
                     let c = cell(rng.random(), rng.random::<f64>() * 0.5);
-                    let reb = rebound(&b, v, w, n, &c, &s, &mut rng);
-                    let dir = (rng.random::<f64>() * 6.3).sin_cos();
-                    let (v2, w2) = compose(reb.normal, dir, reb.vt_ms, reb.vn_ms, b.radius_m);
+                    let new_cell = rng.random::<bool>();
+                    let reb = rebound(&b, v, w, n, &c, &s, new_cell, &mut rng);
+                    let (v2, w2) =
+                        compose(reb.normal, reb.tangent, reb.vt_ms, reb.vn_ms, b.radius_m);
+                    let turn = (rng.random::<f64>() - 0.5) * 6.3;
+                    let (v2, w2) = limit_heading(v2, w2, Some(turn.sin_cos()), 0.3);
                     assert!(energy(&b, v2, w2) <= energy(&b, v, w) * (1.0 + 1e-12));
                 }
             }

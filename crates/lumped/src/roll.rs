@@ -1,21 +1,27 @@
 //! Rolling (seed 000 §2.3: "flying, rolling and bouncing"; model notes: rolling when rebounds
 //! become small, stop below 0.1 m/s).
 //!
-//! A rolling rock keeps its centre R above the ground and moves along the surface. Its
+//! A rolling rock keeps its centre R from the ground along the normal and moves along the
+//! surface. Its
 //! equation of motion is that of a body rolling without slip against a Coulomb-type rolling
 //! resistance: `a = k (g_t − μ_r g n_z û)`, with `g_t` gravity's component in the tangent
 //! plane, `n_z` the vertical component of the surface normal, `û` the direction of motion and
 //! `k = m R² / (m R² + I)` (5/7 for a sphere).
 //!
-//! **Friction law.** Kirkby & Statham (1975) found a rolling rock's friction to grow with the
-//! size of the surface debris relative to the rock. We take `μ_r = MOH / (R + MOH)` with MOH
-//! the cell's mean obstacle height (eq. 4): the same quantity that sets the rebound's r_t,
-//! since `μ_r = 1 − r_t` of eq. 3. A rock of R = 0.475 m on debris of MOH 0.20 m rolls against
-//! μ_r = 0.30 (17°); on a forest road (MOH ≈ 0.01 m), μ_r = 0.02.
+//! **Friction law.** The rock rolls (and slides) against the surface's friction angle φ
+//! with `tan φ = (1 − r_t) / r_t`, the lumped-mass friction angle RocFall derives from the
+//! tangential coefficient of restitution (Rocscience, RocFall manual, "Analysis method":
+//! "Phi = arctan[(1 – Rt)/Rt]"). With r_t of seed 000 eq. 3, `r_t = 1/(1 + MOH/R)`, this is
+//! `μ = MOH / R`, MOH the cell's mean obstacle height (eq. 4): the same roughness that sets
+//! the rebound's r_t, and "for larger rocks the effective surface roughness is lower" (seed
+//! 000 §2.5, after Kirkby & Statham 1975). A rock of R = 0.5 m on scree of MOH 0.39 m rolls
+//! against μ = 0.78 (38°) and comes to rest on a 30° slope; on a forest road (MOH ≈ 0.01 m)
+//! μ = 0.02.
 //!
 //! **Stepping.** Each step covers at most a quarter of a cell. The speed comes from the work–
-//! energy balance over the step (gravity's work on the actual height change minus the
-//! resistance over the path length), so the rock never gains energy from the stepping; the
+//! energy balance over the step (gravity's work on the actual height change of the centre,
+//! [`Ground::centre_z_m`], minus the resistance over the path length), so the rock never
+//! gains energy from the stepping; the
 //! direction is the predicted velocity projected onto the new tangent plane. The rock leaves
 //! the ground (back to flight) when the free parabola would stay above the ground over the
 //! step — at a convex break of slope. It stops when it cannot start from rest (`|g_t| ≤ μ_r g
@@ -77,13 +83,14 @@ pub struct RollInput {
     pub allow_fly: bool,
 }
 
-/// Rolling resistance `μ_r = MOH / (R + MOH)` (see the module docs).
+/// Friction coefficient of a rolling rock, `μ = tan φ = (1 − r_t)/r_t = MOH / R` (RocFall's
+/// friction angle from r_t, with r_t of seed 000 eq. 3; see the module docs). MOH and R in m.
 #[inline]
-pub fn rolling_resistance(moh_mean_m: f64, radius_m: f64) -> f64 {
-    moh_mean_m / (radius_m + moh_mean_m)
+pub fn friction_coefficient(moh_mean_m: f64, radius_m: f64) -> f64 {
+    moh_mean_m / radius_m
 }
 
-/// One rolling step from centre `p` (R above the ground) with velocity `v` (tangent).
+/// One rolling step from centre `p` (R from the ground along the normal) with velocity `v` (tangent).
 pub fn roll_step(ground: &Ground, body: &RockBody, p: V3, v: V3, input: &RollInput) -> RollStep {
     let RollInput {
         mu_r,
@@ -119,22 +126,23 @@ pub fn roll_step(ground: &Ground, body: &RockBody, p: V3, v: V3, input: &RollInp
     let Some(s1) = ground.surface(x1, y1) else {
         return RollStep::Exit;
     };
+    let n1 = s1.normal_v3();
+    let rest1 = ground.centre_z_m(x1, y1, r).unwrap_or(s1.z_m + r);
     // free parabola over the same horizontal step: above the ground → the rock flies
     let z_free = p.z + v.z * dt - 0.5 * G_MS2 * dt * dt;
-    if allow_fly && speed > 1e-9 && z_free > s1.z_m + r + 1e-9 {
+    if allow_fly && speed > 1e-9 && z_free > rest1 + 1e-9 {
         return RollStep::Fly;
     }
-    let p1 = V3::new(x1, y1, s1.z_m + r);
+    let p1 = V3::new(x1, y1, rest1);
     let dz = p1.z - p.z;
     let path = (step.x * step.x + step.y * step.y + dz * dz).sqrt();
-    let n1 = s1.normal_v3();
     let nz = 0.5 * (n0.z + n1.z);
     let v2 = speed * speed + 2.0 * k * (-G_MS2 * dz - mu_r * G_MS2 * nz * path);
     if v2 <= 0.0 {
         // the energy runs out within the step: stop where it does (linear in the path)
         let f = (speed * speed / (speed * speed - v2)).clamp(0.0, 1.0);
         let (xs, ys) = (p.x + f * step.x, p.y + f * step.y);
-        let zs = ground.height_m(xs, ys).map_or(p1.z, |z| z + r);
+        let zs = ground.centre_z_m(xs, ys, r).unwrap_or(p1.z);
         return RollStep::Stopped {
             p: V3::new(xs, ys, zs),
             dt_s: dt * f.max(1e-9),

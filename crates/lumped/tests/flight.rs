@@ -2,8 +2,10 @@
 //! on an inclined plane (coarse cells and a fine grid crossing dozens of patches), the
 //! take-off root that is not a landing, leaving the DEM, a thin ridge that a grazing parabola
 //! must land on instead of passing through, and a property test on random bilinear-noise
-//! terrain: at the landing time the gap to the offset surface is zero, and before it the
-//! centre is never below ground + R (no tunnelling). The surface oracle of the property test
+//! terrain: at the landing time the gap to the offset surface is zero (or the surface steps up
+//! there, from one patch's offset to the next), and before it the centre is never below the
+//! offset surface (no tunnelling). The offset surface lies R from the ground along the normal
+//! of each patch's centre: `R / n_z` above the ground. The surface oracle of the property test
 //! is `rockfall_terrain::Dem`, an implementation of the bilinear surface independent of the
 //! engine's own.
 
@@ -59,13 +61,17 @@ fn plane(x: f64, y: f64) -> f64 {
 
 const R: f64 = 0.5;
 
+/// `1 / n_z` of the plane: `√(1 + 0.5² + 0.25²)`; the centre of a touching rock is `R K`
+/// above the plane.
+const K: f64 = 1.145_643_923_738_960_3;
+
 #[test]
 fn parabola_lands_on_an_inclined_plane_at_the_closed_form_time() {
     // 2 m cells; the plane is exactly bilinear, so the DEM surface is the plane itself.
     let t = terrain(40, 40, 2.0, plane);
     let g = ground(&t);
-    // start 5 m above the offset surface at (10, 50): plane 107.5, centre 113
-    let p = V3::new(10.0, 50.0, plane(10.0, 50.0) + R + 5.0);
+    // start 5 m above the offset surface at (10, 50): plane 107.5, centre 112.5 + R K
+    let p = V3::new(10.0, 50.0, plane(10.0, 50.0) + R * K + 5.0);
     let v = V3::new(8.0, 2.0, 3.81);
     // by hand: gap(t) = 5 + (3.81 + 0.5·8 − 0.25·2) t − 4.905 t² = 5 + 7.31 t − 4.905 t²,
     // whose positive root is t = 2 s exactly (5 + 14.62 − 19.62 = 0)
@@ -76,13 +82,16 @@ fn parabola_lands_on_an_inclined_plane_at_the_closed_form_time() {
         (t_land - 2.0).abs() < 1e-9,
         "landed at {t_land} s, expected 2 s"
     );
-    // landing point (26, 54), centre 101 m = plane 100.5 + R
+    // landing point (26, 54), centre plane 100.5 + R K: R from the plane along its normal
     let q = at(p, v, t_land);
     assert!(
         (q.x - 26.0).abs() < 1e-8 && (q.y - 54.0).abs() < 1e-8,
         "{q:?}"
     );
-    assert!((q.z - 101.0).abs() < 1e-8, "{q:?}");
+    assert!((q.z - (100.5 + R * K)).abs() < 1e-8, "{q:?}");
+    let n = V3::new(0.5, -0.25, 1.0).unit().unwrap();
+    let foot = q - n * R;
+    assert!((foot.z - plane(foot.x, foot.y)).abs() < 1e-8, "{foot:?}");
     assert!((g.height_m(q.x, q.y).unwrap() - 100.5).abs() < 1e-8);
     // the time limit cuts the flight short
     assert_eq!(g.fly(p, v, R, 1.999), FlightEnd::Timeout);
@@ -93,7 +102,7 @@ fn take_off_root_is_not_a_landing() {
     let t = terrain(40, 40, 2.0, plane);
     let g = ground(&t);
     // centre exactly on the offset surface, moving away from it: gap(t) = 7.31 t − 4.905 t²
-    let p = V3::new(10.0, 50.0, plane(10.0, 50.0) + R);
+    let p = V3::new(10.0, 50.0, plane(10.0, 50.0) + R * K);
     let v = V3::new(8.0, 2.0, 3.81);
     let t_land = land_time(g.fly(p, v, R, 30.0));
     let exact = 7.31 / (0.5 * G_MS2);
@@ -109,7 +118,7 @@ fn flight_leaving_the_dem_exits_at_the_last_cell_centre() {
     // eastern-most cell centre, x = 79 m
     let t = terrain(40, 40, 2.0, |x, _| 400.0 - 3.0 * x);
     let g = ground(&t);
-    let p = V3::new(10.0, 40.0, 400.0 - 30.0 + R + 1.0);
+    let p = V3::new(10.0, 40.0, 400.0 - 30.0 + R * 10f64.sqrt() + 1.0);
     let v = V3::new(20.0, 0.0, 0.0);
     match g.fly(p, v, R, 30.0) {
         FlightEnd::Exit { t_s } => {
@@ -125,14 +134,14 @@ fn plane_on_a_fine_grid_gives_the_same_landing_across_dozens_of_patches() {
     // 0.25 m cells: the path from (10, 50) to (26, 54) crosses 64 + 16 patch edges
     let t = terrain(320, 320, 0.25, plane);
     let g = ground(&t);
-    let p = V3::new(10.0, 50.0, plane(10.0, 50.0) + R + 5.0);
+    let p = V3::new(10.0, 50.0, plane(10.0, 50.0) + R * K + 5.0);
     let v = V3::new(8.0, 2.0, 3.81);
     let t_land = land_time(g.fly(p, v, R, 30.0));
     let exact = plane_landing(5.0, 3.81 + 0.5 * 8.0 - 0.25 * 2.0);
     assert!((t_land - exact).abs() < 1e-9, "{t_land} vs {exact}");
 
     // a diagonal path through the patch corners (the cell centres): 48 corners crossed
-    let p = V3::new(10.125, 20.125, plane(10.125, 20.125) + R + 5.0);
+    let p = V3::new(10.125, 20.125, plane(10.125, 20.125) + R * K + 5.0);
     let v = V3::new(6.0, 6.0, 5.81);
     // gap(t) = 5 + (5.81 + 0.5·6 − 0.25·6) t − 4.905 t² = 5 + 7.31 t − 4.905 t²: t = 2 s
     let t_land = land_time(g.fly(p, v, R, 30.0));
@@ -160,6 +169,9 @@ fn ridge() -> Terrain {
     })
 }
 
+/// `1 / n_z` of the ridge's flanks (gradient 1.5): `√(1 + 1.5²)`.
+const KF: f64 = 1.802_775_637_731_994_6;
+
 /// The south flank of the ridge, 17 ≤ y ≤ 19.
 fn flank(y: f64) -> f64 {
     RIDGE_H * (y - 17.0) / 2.0
@@ -168,7 +180,7 @@ fn flank(y: f64) -> f64 {
 /// Landing time on the south flank of a flight from `p` (south of y = 17) with `v`
 /// (vy > 0), by the quadratic formula on gap(t) = q0 + q1 t − g/2 t².
 fn flank_landing(p: V3, v: V3) -> f64 {
-    let q0 = p.z - R - RIDGE_H * (p.y - 17.0) / 2.0;
+    let q0 = p.z - R * KF - RIDGE_H * (p.y - 17.0) / 2.0;
     let q1 = v.z - RIDGE_H * v.y / 2.0;
     plane_landing(q0, q1)
 }
@@ -178,14 +190,14 @@ fn parabola_clipping_a_thin_ridge_lands_on_it() {
     let t = ridge();
     let g = ground(&t);
     for (label, v, clearance) in [
-        // flying north at 20 m/s, centre 0.3 m below crest + R when above the crest
+        // flying north at 20 m/s, centre 0.3 m below crest + R KF when above the crest
         ("north, 0.3 m", V3::new(0.0, 20.0, 0.0), -0.3),
         // fast and oblique, clipping the crest by one millimetre
         ("oblique, 1 mm", V3::new(7.0, 39.0, 0.0), -0.001),
     ] {
         // start at y = 5; reach the crest (y = 19) after t_c = 14 / v_y
         let t_c = 14.0 / v.y;
-        let z0 = RIDGE_H + R + clearance + 0.5 * G_MS2 * t_c * t_c;
+        let z0 = RIDGE_H + R * KF + clearance + 0.5 * G_MS2 * t_c * t_c;
         let p = V3::new(10.0 - v.x * t_c, 5.0, z0);
         // without the ridge it would land on the flat beyond it
         let flat_landing = ((z0 - R) / (0.5 * G_MS2)).sqrt();
@@ -206,10 +218,10 @@ fn parabola_clipping_a_thin_ridge_lands_on_it() {
         assert!((zg - flank(q.y)).abs() < 1e-12);
         assert!(zg > 0.0, "{label}: on the ridge");
         assert!(
-            (q.z - (zg + R)).abs() < 1e-9,
-            "{label}: centre {} vs ground + R {}",
+            (q.z - (zg + R * KF)).abs() < 1e-9,
+            "{label}: centre {} vs ground + R / n_z {}",
             q.z,
-            zg + R
+            zg + R * KF
         );
     }
 }
@@ -221,7 +233,7 @@ fn parabola_clearing_a_thin_ridge_lands_beyond_it() {
     // an oblique flight clearing the crest by one millimetre
     let v = V3::new(3.0, 20.0, 0.0);
     let t_c = 14.0 / v.y;
-    let z0 = RIDGE_H + R + 0.001 + 0.5 * G_MS2 * t_c * t_c;
+    let z0 = RIDGE_H + R * KF + 0.001 + 0.5 * G_MS2 * t_c * t_c;
     let p = V3::new(10.0 - v.x * t_c, 5.0, z0);
     // beyond the crest the north flank falls as fast as the south one rose: z = 3 (21 − y)/2,
     // and the parabola falls more slowly near its apex, so it clears the flank and lands on
@@ -265,6 +277,15 @@ fn flight_starting_on_the_surface_with_tangent_velocity_lands_at_once() {
     );
 }
 
+/// Height of the centre of a rock of radius `radius` touching the ground under `q`: `R / n_z`
+/// with the normal at the centre of the bilinear patch holding `q` (the DEM's cell centres are
+/// the patch corners; `n` cells of `cell_m` a side from the origin).
+fn patch_offset_m(dem: &Dem, cell_m: f64, n: usize, q: V3, radius: f64) -> Option<f64> {
+    let patch = |w: f64| ((w / cell_m - 0.5).floor().clamp(0.0, (n - 2) as f64) + 1.0) * cell_m;
+    let s = dem.surface_at(patch(q.x), patch(q.y))?;
+    Some(radius * (1.0 + s.dzdx * s.dzdx + s.dzdy * s.dzdy).sqrt())
+}
+
 /// A random terrain: a tilted plane plus independent noise at every cell centre.
 fn noise_terrain(seed: u64, n: usize, cell_m: f64, tilt: (f64, f64), amp_m: f64) -> Terrain {
     let mut rng = rockfall_rng::stream(seed, rockfall_rng::Purpose::Sampling, &[]);
@@ -305,23 +326,36 @@ proptest! {
         // start inside the surface (between the outermost cell centres)
         let span = (n - 1) as f64 * cell_m;
         let (x0, y0) = (0.5 * cell_m + start.0 * span, 0.5 * cell_m + start.1 * span);
-        let p = V3::new(x0, y0, dem.height_m(x0, y0).unwrap() + radius + gap0);
+        let offset = |q: V3| patch_offset_m(dem, cell_m, n, q, radius);
+        let start_z = dem.height_m(x0, y0).unwrap() + offset(V3::new(x0, y0, 0.0)).unwrap();
+        let p = V3::new(x0, y0, start_z + gap0);
         let (s, c) = dir.0.sin_cos();
         let h = (1.0 - dir.1 * dir.1).sqrt();
         let v = V3::new(speed * h * c, speed * h * s, speed * dir.1);
         let t_max = 30.0;
         let end = g.fly(p, v, radius, t_max);
-        let gap = |tt: f64| -> Option<f64> {
+        // gap at time tt to the offset surface of the patch the path is in at time `probe`
+        let gap_in = |tt: f64, probe: f64| -> Option<f64> {
             let q = at(p, v, tt);
-            dem.height_m(q.x, q.y).map(|z| q.z - (z + radius))
+            let off = offset(at(p, v, probe))?;
+            dem.height_m(q.x, q.y).map(|z| q.z - (z + off))
         };
+        let gap = |tt: f64| gap_in(tt, tt);
         let until = match end {
             FlightEnd::Land { t_s } => {
                 prop_assert!((0.0..=t_max).contains(&t_s));
                 let g_land = gap(t_s);
                 prop_assert!(g_land.is_some(), "landed off the surface at {t_s}");
                 let g_land = g_land.unwrap_or(f64::NAN);
-                prop_assert!(g_land.abs() < 1e-6, "gap {g_land} m at the landing time {t_s} s");
+                // a root of the gap, or a step up of the offset surface where a patch begins:
+                // above the surface of the patch before, on or below that of the patch after
+                let eps = 1e-7;
+                let before = gap_in(t_s, (t_s - eps).max(0.0)).unwrap_or(f64::NAN);
+                let after = gap_in(t_s, t_s + eps).unwrap_or(g_land);
+                prop_assert!(
+                    g_land.abs() < 1e-6 || (before > -1e-6 && after < 1e-6),
+                    "gap {g_land} m at the landing time {t_s} s (before {before}, after {after})"
+                );
                 t_s
             }
             FlightEnd::Exit { t_s } => {

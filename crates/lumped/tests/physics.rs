@@ -107,7 +107,7 @@ fn first_rebounds_by_hand_with_the_velocity_ratio_law() {
 fn first_rebounds_by_hand(law: TangentialLaw) {
     // flat ground, r_n = 0.5, MOH = 0.125 m on all classes → r_t = 1/(1 + 0.125/0.5) = 0.8
     let t = terrain((40, 40, 2.0), |_, _| 0.0, [0.125; 3], Some(0.5));
-    let (x0, y0, h, vx0) = (20.3, 30.7, 5.0, 4.0);
+    let (x0, y0, h, vx0) = (21.0, 30.7, 5.0, 4.0);
     let p = ReleasePoint {
         velocity_ms: [vx0, 0.0, 0.0],
         ..ReleasePoint::at_rest(x0, y0, h)
@@ -176,17 +176,18 @@ fn first_rebounds_by_hand(law: TangentialLaw) {
     assert!(close(i3.vx_ms, vt3, 1e-9) && i3.vz_ms.abs() < 1e-9);
     assert!(close(i3.wy_rads, vt3 / R, 1e-9));
 
-    // then it rolls against μ_r = 0.125/0.625 = 0.2, decelerating at 5/7 μ_r g, and stops
-    // after (v² − 0.1²)/(2a) (stop velocity 0.1 m/s), give or take one rolling step
-    let x3 = i3.x_m;
-    let a = k * 0.2 * G_MS2;
+    // then it rolls against μ = MOH/R = 0.25 (RocFall's tan φ = (1 − r_t)/r_t), decelerating
+    // at 5/7 μ g, and stops after (v² − 0.1²)/(2a) (stop velocity 0.1 m/s), give or take one
+    // rolling step. (It enters the next cell faster than the clearing speed, but on flat
+    // ground without a tilt the obstacles there cannot throw it: it rolls on over them.)
+    let a = k * 0.25 * G_MS2;
     let roll_m = (vt3 * vt3 - 0.01) / (2.0 * a);
     let stop = rows.last().unwrap();
     assert_eq!(stop.event, Event::Stop);
     assert!(
-        (stop.x_m - x3 - roll_m).abs() < 0.05,
+        (stop.x_m - i3.x_m - roll_m).abs() < 0.05,
         "rolled {} m, expected {roll_m} m",
-        stop.x_m - x3
+        stop.x_m - i3.x_m
     );
     let sum = res.summary_json();
     assert_eq!(f!(sum["stopped_fraction"]), 1.0);
@@ -301,8 +302,9 @@ fn rock_in_a_hollow_comes_to_rest() {
         let res = run(&scenario(t, points, 25), None, 100);
         let sum = res.summary_json();
         assert_eq!(f!(sum["stopped_fraction"]), 1.0, "{deg}°: {sum}");
-        // at rest well before the 60 s limit (it takes ≈ 10–15 s of ever smaller hops)
-        assert!(f!(sum["time_s"]["max"]) < 30.0, "{deg}°: {sum}");
+        // at rest well before the 60 s limit (on the smooth 35° cone it rolls to and fro
+        // against μ = 0.08 for up to ≈ 35 s)
+        assert!(f!(sum["time_s"]["max"]) < 45.0, "{deg}°: {sum}");
         assert!(f!(sum["rebounds_per_rock"]) < 100.0, "{deg}°: {sum}");
         // every rock ends in the hollow, lower than it started
         for r in res.trajectories().iter().filter(|r| r.event == Event::Stop) {

@@ -124,6 +124,13 @@ pub struct LumpedSettings {
     pub max_lateral_deviation_deg: f64,
     /// A rock slower than this has stopped, m/s (seed 000 §4: 0.1 m/s).
     pub stop_velocity_ms: f64,
+    /// Scale of the sideways tilt of the surface by the roughness at the first rebound in a
+    /// cell, `± u₁(1 − u₂) atan(MOH/R)` (PlatRock's rebound; 1 by default, 0 turns it off).
+    pub roughness_tilt_factor: f64,
+    /// A rebound lifts the rock off the ground only when its centre would rise by more than
+    /// this many obstacle heights (a rule of ours, docs/lumped-model.md; 1 by default, 0
+    /// keeps only the stop velocity).
+    pub lift_off_obstacle_factor: f64,
 }
 
 impl Default for LumpedSettings {
@@ -135,6 +142,8 @@ impl Default for LumpedSettings {
             slope_reduction_max_deg: 4.0,
             max_lateral_deviation_deg: 45.0,
             stop_velocity_ms: 0.1,
+            roughness_tilt_factor: 1.0,
+            lift_off_obstacle_factor: 1.0,
         }
     }
 }
@@ -147,6 +156,7 @@ impl LumpedSettings {
             moh: MohMode::Mean,
             rt_variation: 0.0,
             slope_reduction_max_deg: 0.0,
+            roughness_tilt_factor: 0.0,
             ..LumpedSettings::default()
         }
     }

@@ -286,7 +286,7 @@ impl Scenario {
     fn check_settings(&self) -> Check {
         let l = &self.lumped;
         let s = &self.simulation;
-        let checks: [(&str, f64, bool, &str); 8] = [
+        let checks: [(&str, f64, bool, &str); 10] = [
             (
                 "lumped.rt_variation",
                 l.rt_variation,
@@ -310,6 +310,18 @@ impl Scenario {
                 l.stop_velocity_ms,
                 l.stop_velocity_ms > 0.0 && l.stop_velocity_ms.is_finite(),
                 "> 0 m/s",
+            ),
+            (
+                "lumped.roughness_tilt_factor",
+                l.roughness_tilt_factor,
+                (0.0..=10.0).contains(&l.roughness_tilt_factor),
+                "0–10",
+            ),
+            (
+                "lumped.lift_off_obstacle_factor",
+                l.lift_off_obstacle_factor,
+                (0.0..=10.0).contains(&l.lift_off_obstacle_factor),
+                "0–10",
             ),
             (
                 "simulation.dt_s",
