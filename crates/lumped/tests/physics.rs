@@ -1,8 +1,7 @@
 //! Physics of the lumped engine end to end, against hand calculations and invariants: the
 //! first rebounds of a sphere dropped on flat ground (given r_n and r_t = 1/(1 + MOH/R)),
 //! rolling from rest down a smooth plane (a = 5/7 g sin θ), the stop criterion (at rest on
-//! flat ground, held by rolling resistance μ_r = MOH/(R + MOH) > tan θ, rolling away on a
-//! steep slope), a rock in a hollow coming to rest, and over many rocks on rough random
+//! flat ground, held by the friction μ = MOH/R > tan θ, rolling away on a steep slope), a rock in a hollow coming to rest, and over many rocks on rough random
 //! terrain with a forest: no rebound or tree impact adds mechanical energy and no recorded
 //! state lies below the ground.
 
@@ -196,7 +195,7 @@ fn first_rebounds_by_hand(law: TangentialLaw) {
 
 #[test]
 fn sphere_rolls_down_a_smooth_plane_at_five_sevenths_g_sin_theta() {
-    // 30° plane falling east, no obstacles: μ_r = 0, rolling without slip
+    // 30° plane falling east, no obstacles: μ = 0, rolling without slip
     let theta = 30f64.to_radians();
     let t = terrain(
         (60, 20, 2.0),
@@ -259,9 +258,9 @@ fn slope(deg: f64, rg: f64) -> Terrain {
 }
 
 #[test]
-fn rolling_resistance_holds_a_sphere_on_a_gentle_slope() {
-    // 10°: tan θ = 0.176; MOH 0.2 m gives μ_r = 0.2/0.7 = 0.286 > tan θ → stuck
-    assert!(0.2 / (R + 0.2) > 10f64.to_radians().tan());
+fn friction_holds_a_sphere_on_a_gentle_slope() {
+    // 10°: tan θ = 0.176; MOH 0.2 m gives μ = MOH/R = 0.4 > tan θ → stuck
+    assert!(0.2 / R > 10f64.to_radians().tan());
     let points = vec![
         ReleasePoint::at_rest(30.0, 20.0, 0.0),
         ReleasePoint::at_rest(61.7, 13.1, 0.0),
@@ -271,12 +270,12 @@ fn rolling_resistance_holds_a_sphere_on_a_gentle_slope() {
     assert_eq!(sum["outcomes"]["stopped"], 6, "{sum}");
     assert!(f!(sum["runout_m"]["max"]) < 1e-9, "{sum}");
 
-    // MOH 0.05 m: μ_r = 0.091 < tan 10° → it rolls away
+    // MOH 0.05 m: μ = 0.1 < tan 10° → it rolls away
     let res = run(&scenario(slope(10.0, 0.05), points.clone(), 3), None, 0);
     let sum = res.summary_json();
     assert!(f!(sum["runout_m"]["p50"]) > 10.0, "{sum}");
 
-    // 40° with MOH 0.01 m (μ_r = 0.02): rolls (and hops) away, down to the DEM's edge
+    // 40° with MOH 0.01 m (μ = 0.02): rolls (and hops) away, down to the DEM's edge
     let res = run(&scenario(slope(40.0, 0.01), points, 3), None, 0);
     let sum = res.summary_json();
     assert_eq!(f!(sum["left_dem_fraction"]), 1.0, "{sum}");
@@ -480,7 +479,7 @@ fn flight_rows_conserve_mechanical_energy() {
 
 #[test]
 fn rolling_up_a_steepening_ramp_stops_no_higher_than_its_energy_allows() {
-    // smooth ground (μ_r = 0), flat for x < 30 m, then z = 0.05 (x − 30)²; rocks rolling east
+    // smooth ground (μ = 0), flat for x < 30 m, then z = 0.05 (x − 30)²; rocks rolling east
     // at 2 … 6 m/s climb at most v²/(2 g k) with k = 5/7 (rolling kinetic energy ½ m v²/k)
     let t = terrain(
         (60, 40, 2.0),
