@@ -4,6 +4,7 @@
 mod args;
 mod commands;
 mod lab;
+mod sensitivity;
 mod simulate;
 mod validate;
 

@@ -4,11 +4,14 @@ use crate::Failure;
 use crate::lab::{StudyFlags, print_files, run_shape_study};
 use crate::simulate;
 use anyhow::anyhow;
+use rockfall_results::{Quantity, Results};
 use rockfall_scenario::{LumpedSettings, MohMode, Scenario};
 use rockfall_sites::vaujany::{self, Site};
+use rockfall_validation::fair::{self, GroupMax};
 use rockfall_validation::figure::{FIG2_FILE, tree_impacts_figure};
 use rockfall_validation::shapes::{SHAPES, shape_case};
 use rockfall_validation::{CaseReport, Meta, measure, published, report, write_reports};
+use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 
@@ -83,8 +86,9 @@ pub fn validate(flags: &ValidateFlags, out: &Path) -> Result<(), Failure> {
             .join(" "),
         settings: Vec::new(),
         figures: Vec::new(),
+        sensitivity: Vec::new(),
     };
-    for name in selected {
+    for &name in &selected {
         if name == "forest-slope-40" {
             cases.push(shape_study_case(
                 name,
@@ -110,8 +114,12 @@ pub fn validate(flags: &ValidateFlags, out: &Path) -> Result<(), Failure> {
             }
         }
     }
+    // the sensitivity table: a fifth of the rocks per run (at least 200)
+    meta.sensitivity =
+        crate::sensitivity::sensitivity(&selected, (site_rocks / 5).max(200), seed, threads)?;
     meta.wall_time_s = started.elapsed().as_secs_f64();
     print!("{}", report::terminal(&cases));
+    print!("{}", report::sensitivity_terminal(&meta.sensitivity));
     let mut files = write_reports(out, &cases, &meta).map_err(|e| Failure::Internal(e.into()))?;
     files.extend(meta.figures.iter().map(|(_, f)| out.join(f)));
     println!();
@@ -156,6 +164,7 @@ fn vaujany_cases(
     let summary = results.summary_json();
     let records = results.rock_records();
     let site_published: Vec<_> = published().into_iter().filter(|p| p.site == name).collect();
+    let site_rocks = site_published.iter().find_map(|p| p.observed_rocks);
     let mut cases = Vec::new();
     for p in &site_published {
         let simulated = match p.screen {
@@ -163,6 +172,10 @@ fn vaujany_cases(
             Some(screen) => measure::screen_quantities(&summary, screen),
         };
         let mut case = CaseReport::compare(p, "lumped", results.rocks(), &simulated);
+        if let Some(n) = site_rocks {
+            let maxima = group_maxima(&results, &scenario, p.screen, n);
+            case.add_fair(&maxima, n);
+        }
         if let Some(n) = p.observed_rocks
             && let Some((v, h)) = measure::per_rock_quantile_of_max(records, n)
         {
@@ -191,6 +204,47 @@ fn vaujany_cases(
         ));
     }
     Ok((cases, lumped_settings(&scenario.lumped)))
+}
+
+/// The distributions of a case's maxima over groups of `observed_rocks` rocks: the rocks'
+/// largest speed and height on the slope, or at screen `screen` the speed, height and energy of
+/// the crossings of that many rocks (`observed_rocks` times the simulated share crossing).
+pub(crate) fn group_maxima(
+    results: &Results,
+    scenario: &Scenario,
+    screen: Option<&str>,
+    observed_rocks: u32,
+) -> BTreeMap<String, GroupMax> {
+    let n = f64::from(observed_rocks);
+    let quantities: Vec<(&str, Quantity)> = match screen {
+        None => vec![
+            ("max_velocity_ms", Quantity::MaxVelocity),
+            ("max_rebound_height_m", Quantity::MaxJumpHeight),
+        ],
+        Some(name) => match scenario.screens.iter().position(|s| s.name == name) {
+            Some(i) => vec![
+                ("max_velocity_ms", Quantity::ScreenVelocity(i)),
+                ("max_rebound_height_m", Quantity::ScreenJumpHeight(i)),
+                ("max_energy_kj", Quantity::ScreenEnergy(i)),
+            ],
+            None => Vec::new(),
+        },
+    };
+    let rocks = results.rocks().max(1) as f64;
+    let mut out = BTreeMap::new();
+    for (key, q) in quantities {
+        let Some(d) = results.distribution(q) else {
+            continue;
+        };
+        let m = match screen {
+            None => n,
+            Some(_) => n * d.count as f64 / rocks,
+        };
+        if let Some(g) = fair::group_max(&d, m) {
+            out.insert(key.to_string(), g);
+        }
+    }
+    out
 }
 
 /// The lumped engine's settings in a line.

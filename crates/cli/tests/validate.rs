@@ -146,10 +146,69 @@ fn quick_vaujany_cases_compute_eqs_5_and_6_from_their_runs() {
         }
     }
 
+    // the fair comparison: maxima over groups of the observed size, intervals of the shares
+    for c in v["cases"].as_array().unwrap() {
+        let name = c["name"].as_str().unwrap();
+        let n = if name.starts_with("vaujany-site1") {
+            100.0
+        } else {
+            102.0
+        };
+        let mut errors = Vec::new();
+        for r in c["rows"].as_array().unwrap() {
+            let key = r["key"].as_str().unwrap();
+            let (o, sim) = (f(&r["observed"]), f(&r["simulated"]));
+            let g = &r["simulated_group_max"];
+            if key.starts_with("max_") {
+                let (p5, p50, p95) = (f(&g["p5"]), f(&g["p50"]), f(&g["p95"]));
+                assert!(
+                    p5 <= p50 && p50 <= p95 && p95 <= sim * (1.0 + 1e-12),
+                    "{name}: {r}"
+                );
+                // groups of the observed rocks (at a screen, those crossing it)
+                assert!(f(&g["group"]) <= n && f(&g["group"]) > 0.0, "{name}: {r}");
+                if !name.contains("screen") {
+                    assert_eq!(f(&g["group"]), n);
+                }
+                let e = f(&r["error_pct_fair"]);
+                assert!((e - (p50 - o) * 100.0 / o).abs() < 1e-9, "{name}: {r}");
+                errors.push(e);
+            } else {
+                assert!(g.is_null(), "{name}: {r}");
+                errors.push(f(&r["error_pct"]));
+            }
+            let ci = &r["observed_ci95"];
+            if key.ends_with("_pct") {
+                let (lo, hi) = (f(&ci[0]), f(&ci[1]));
+                assert!(lo < o && o < hi && hi - lo < 25.0, "{name}: {r}");
+            } else {
+                assert!(ci.is_null(), "{name}: {r}");
+            }
+        }
+        let rmse = (errors.iter().map(|x| x * x).sum::<f64>() / errors.len() as f64).sqrt();
+        assert!((f(&c["rmse_pct_fair"]) - rmse).abs() < 1e-9, "{name}");
+    }
+    // the sensitivity table: each site's default run and both ends of each unknown and rule
+    let sens = v["sensitivity"].as_array().unwrap();
+    for site in ["vaujany-site1", "vaujany-site2"] {
+        let rows: Vec<&Value> = sens.iter().filter(|r| r["case"] == site).collect();
+        assert_eq!(rows.len(), 15, "{site}: {rows:?}");
+        assert_eq!(rows[0]["unknown"], "default");
+        for r in rows {
+            assert!(
+                f(&r["rmse_pct"]) > 0.0 && f(&r["rmse_pct_fair"]) > 0.0,
+                "{r}"
+            );
+        }
+    }
+    assert!(stdout.contains("Sensitivity"), "{stdout}");
+
     let md = std::fs::read_to_string(out.join("validation.md")).unwrap();
     for needle in [
         "vaujany-site1/screen-235m",
         "RMSE",
+        "fair RMSE",
+        "Sensitivity: which rows the reconstruction decides",
         "How the Vaujany sites are rebuilt",
         "fig2_tree_impacts_per_rock.png",
         "Discussion",

@@ -225,9 +225,109 @@ pub const RECONSTRUCTION: &[Assumption] = &[
     },
 ];
 
+/// The unknowns of the reconstruction that [`RECONSTRUCTION`] sets where seed 000 is silent
+/// or gives a range, with their values on the built-in sites ([`Unknowns::default`]); the
+/// validation's sensitivity table moves each across its plausible range
+/// ([`Unknowns::ranges`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Unknowns {
+    /// Release height of the rock centre above the ground, m (0.5).
+    pub release_height_m: f64,
+    /// Release speed downslope, m/s (1).
+    pub release_speed_ms: f64,
+    /// Largest lateral slope of the cross-profile's gully, degrees (8).
+    pub gully_side_slope_deg: f64,
+    /// Spread of the three cover classes' obstacle heights about their eq. 4 mean, as a
+    /// factor on the built-in spread (1; 0: every class at the mean).
+    pub rg_spread: f64,
+    /// r_n of the slope (the road keeps its class); `None`: the soil class's mean.
+    pub r_n: Option<f64>,
+}
+
+impl Default for Unknowns {
+    fn default() -> Self {
+        Unknowns {
+            release_height_m: 0.5,
+            release_speed_ms: 1.0,
+            gully_side_slope_deg: 8.0,
+            rg_spread: 1.0,
+            r_n: None,
+        }
+    }
+}
+
+impl Unknowns {
+    /// Each unknown's plausible range as (name, low, high) variants of the default; r_n spans
+    /// the site's soil class (site 1 class 2: 0.25–0.31, site 2 class 4: 0.34–0.42).
+    pub fn ranges(site: Site) -> Vec<(&'static str, Unknowns, Unknowns)> {
+        let d = Unknowns::default();
+        let (rn_lo, rn_hi) = match site {
+            Site::One => (0.25, 0.31),
+            Site::Two => (0.34, 0.42),
+        };
+        vec![
+            (
+                "release height 0–1.5 m",
+                Unknowns {
+                    release_height_m: 0.0,
+                    ..d
+                },
+                Unknowns {
+                    release_height_m: 1.5,
+                    ..d
+                },
+            ),
+            (
+                "release speed 0–3 m/s",
+                Unknowns {
+                    release_speed_ms: 0.0,
+                    ..d
+                },
+                Unknowns {
+                    release_speed_ms: 3.0,
+                    ..d
+                },
+            ),
+            (
+                "gully side slope 0–12°",
+                Unknowns {
+                    gully_side_slope_deg: 0.0,
+                    ..d
+                },
+                Unknowns {
+                    gully_side_slope_deg: 12.0,
+                    ..d
+                },
+            ),
+            (
+                "obstacle-height spread ×0–×2 about the eq. 4 mean",
+                Unknowns {
+                    rg_spread: 0.0,
+                    ..d
+                },
+                Unknowns {
+                    rg_spread: 2.0,
+                    ..d
+                },
+            ),
+            (
+                "r_n across the soil class",
+                Unknowns {
+                    r_n: Some(rn_lo),
+                    ..d
+                },
+                Unknowns {
+                    r_n: Some(rn_hi),
+                    ..d
+                },
+            ),
+        ]
+    }
+}
+
 /// Builds site 1 or site 2 as a scenario, with the run-out below the road.
 pub fn build(site: Site) -> Result<Scenario, SiteError> {
-    build_rows(site, NROWS)
+    build_rows(site, NROWS, &Unknowns::default())
 }
 
 /// Site 1 or site 2 as the experiments observed it and seed 000 simulated it for its table 2:
@@ -237,21 +337,26 @@ pub fn build(site: Site) -> Result<Scenario, SiteError> {
 /// eq. 4 mean of the cover classes, the method behind table 2 (§3.2: drawing the class per
 /// rebound was tried on site 2 only, and raised its RMSE by 8 %).
 pub fn build_observed(site: Site) -> Result<Scenario, SiteError> {
+    build_observed_with(site, &Unknowns::default())
+}
+
+/// [`build_observed`] with the reconstruction's unknowns set to `u`.
+pub fn build_observed_with(site: Site, u: &Unknowns) -> Result<Scenario, SiteError> {
     let d_m = d_at_along(observed_extent_along_m(site));
     // the last row's centre at or below the cut: the bilinear surface reaches it
     let nrows = (d_m / CELL_M - 0.5).ceil() as usize + 1;
-    let mut s = build_rows(site, nrows.min(NROWS))?;
+    let mut s = build_rows(site, nrows.min(NROWS), u)?;
     s.lumped.moh = MohMode::Mean;
     Ok(s)
 }
 
-fn build_rows(site: Site, nrows: usize) -> Result<Scenario, SiteError> {
+fn build_rows(site: Site, nrows: usize, u: &Unknowns) -> Result<Scenario, SiteError> {
     let g = geometry(nrows);
     let axis_x = g.cell_center(0, START_COL).0;
     let gully = Gully {
         axis_x_m: axis_x,
         width_m: 25.0,
-        max_side_slope_deg: 8.0,
+        max_side_slope_deg: u.gully_side_slope_deg,
     };
     let dem_grid = sample_dem(g, &profile(), Some(gully)).with_crs(Some(Crs::from_epsg(2154)));
     let dem = Dem::new(dem_grid)?;
@@ -268,6 +373,8 @@ fn build_rows(site: Site, nrows: usize) -> Result<Scenario, SiteError> {
         Site::One => (2.0, [0.17, 0.25, 0.35]),
         Site::Two => (4.0, [0.10, 0.20, 0.32]),
     };
+    let mean = 0.7 * rg[0] + 0.2 * rg[1] + 0.1 * rg[2];
+    let rg = rg.map(|h| (mean + u.rg_spread * (h - mean)).max(0.0));
     let per_row = |slope: f64, road_value: f64| {
         Field::Grid(Grid::from_fn(g, |row, _| {
             Some(if on_road(row) { road_value } else { slope })
@@ -275,7 +382,10 @@ fn build_rows(site: Site, nrows: usize) -> Result<Scenario, SiteError> {
     };
     let surface = SurfaceMap {
         soil_type: per_row(soil, 3.0),
-        r_n: None,
+        r_n: u.r_n.map(|r_n| {
+            let road = rockfall_terrain::SoilType::new(3).map_or(0.33, |c| c.r_n_mean());
+            per_row(r_n, road)
+        }),
         rg70_m: per_row(rg[0], 0.0),
         rg20_m: per_row(rg[1], 0.02),
         rg10_m: per_row(rg[2], 0.05),
@@ -285,8 +395,8 @@ fn build_rows(site: Site, nrows: usize) -> Result<Scenario, SiteError> {
     let start_row = (START_D_M / CELL_M) as usize;
     let release = Release {
         cells: vec![g.index(start_row, START_COL)],
-        cell_height_m: 0.5,
-        cell_velocity_ms: [0.0, -1.0, 0.0],
+        cell_height_m: u.release_height_m,
+        cell_velocity_ms: [0.0, -u.release_speed_ms, 0.0],
         points: Vec::new(),
     };
     let across = |d: f64, name: &str| Screen {

@@ -1,5 +1,6 @@
 //! A case's comparison: observed against simulated, row by row, with eqs. 5 and 6.
 
+use crate::fair::{GroupMax, is_maximum, is_share, wilson_ci95};
 use crate::metrics::{error_pct, rmse_pct};
 use crate::observed::Published;
 use std::collections::BTreeMap;
@@ -23,6 +24,27 @@ pub struct Row {
     pub rockyfor: Option<f64>,
     /// RockyFor's E in the paper, %.
     pub rockyfor_error_pct: Option<f64>,
+    /// For a maximum: the distribution of the simulated maximum over groups of the observed
+    /// sample size ([`crate::fair`]).
+    pub simulated_group_max: Option<GroupMax>,
+    /// For a share: the 95 % Wilson interval of the observed share, %.
+    pub observed_ci95: Option<[f64; 2]>,
+}
+
+impl Row {
+    /// The value the fair comparison uses: the median group maximum for a maximum, else the
+    /// simulated value.
+    pub fn simulated_fair(&self) -> Option<f64> {
+        match self.simulated_group_max {
+            Some(g) => Some(g.p50),
+            None => self.simulated,
+        }
+    }
+
+    /// E (eq. 5) of [`Row::simulated_fair`], %.
+    pub fn error_pct_fair(&self) -> Option<f64> {
+        error_pct(self.simulated_fair()?, self.observed?)
+    }
 }
 
 /// RMSE of one group of rows.
@@ -64,8 +86,11 @@ pub struct CaseReport {
     pub rocks: u64,
     /// The compared quantities.
     pub rows: Vec<Row>,
-    /// Eq. 6 over every row with an error, %.
+    /// Eq. 6 over every row with an error, %: the paper's protocol.
     pub rmse_pct: Option<f64>,
+    /// Eq. 6 with every maximum replaced by the median of its group maximum
+    /// ([`crate::fair`]), %; `None` until [`CaseReport::add_fair`].
+    pub rmse_pct_fair: Option<f64>,
     /// The paper's RMSE groups, ours beside them.
     pub groups: Vec<GroupRmse>,
     /// Findings checked (shape study).
@@ -95,6 +120,8 @@ impl CaseReport {
                     error_pct: c.and_then(|c| error_pct(c, q.observed)),
                     rockyfor: Some(q.rockyfor),
                     rockyfor_error_pct: Some(q.rockyfor_error_pct),
+                    simulated_group_max: None,
+                    observed_ci95: None,
                 }
             })
             .collect();
@@ -125,11 +152,28 @@ impl CaseReport {
             engine: engine.to_string(),
             rocks,
             rmse_pct: rmse_of(rows.iter()),
+            rmse_pct_fair: None,
             rows,
             groups,
             checks: Vec::new(),
             notes,
         }
+    }
+
+    /// Adds the fair comparison: the group maxima of the maxima (by key, from
+    /// [`crate::fair::group_max`]), the Wilson intervals of the observed shares on
+    /// `observed_rocks`, and `rmse_pct_fair`.
+    pub fn add_fair(&mut self, group_max: &BTreeMap<String, GroupMax>, observed_rocks: u32) {
+        for r in &mut self.rows {
+            if is_maximum(&r.key) {
+                r.simulated_group_max = group_max.get(&r.key).copied();
+            }
+            if is_share(&r.key) {
+                r.observed_ci95 = r.observed.map(|o| wilson_ci95(o, observed_rocks));
+            }
+        }
+        let e: Vec<f64> = self.rows.iter().filter_map(Row::error_pct_fair).collect();
+        self.rmse_pct_fair = rmse_pct(&e);
     }
 
     /// RockyFor's RMSE over the same rows, %: the paper's own where it prints one for all of

@@ -43,6 +43,8 @@ pub fn shape_case(name: &str, stats: &[SlopeStats], summaries: &[Value], rocks: 
                 error_pct: None,
                 rockyfor: None,
                 rockyfor_error_pct: None,
+                simulated_group_max: None,
+                observed_ci95: None,
             });
         }
     }
@@ -70,6 +72,7 @@ pub fn shape_case(name: &str, stats: &[SlopeStats], summaries: &[Value], rocks: 
         rocks,
         rows,
         rmse_pct: None,
+        rmse_pct_fair: None,
         groups: Vec::new(),
         checks: vec![
             check("farthest run-out (p95)", "farthest_runout"),

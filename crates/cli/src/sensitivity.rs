@@ -1,0 +1,109 @@
+//! The sensitivity table of `rockfall validate`: each Vaujany site's table 2 case run again
+//! with one unknown of the reconstruction (`vaujany::Unknowns`) or one rule of ours (the
+//! settings `roughness_tilt_factor` and `lift_off_obstacle_factor`, docs/lumped-model.md)
+//! at each end of its plausible range, so that a reader sees which rows the reconstruction
+//! decides and which the model does.
+
+use crate::Failure;
+use crate::simulate;
+use crate::validate::group_maxima;
+use rockfall_scenario::Scenario;
+use rockfall_sites::vaujany::{self, Site, Unknowns};
+use rockfall_validation::{CaseReport, SensitivityRow, measure, published};
+
+/// How one run differs from the default reconstruction.
+struct Variant {
+    unknown: String,
+    setting: String,
+    unknowns: Unknowns,
+    tilt: Option<f64>,
+    lift: Option<f64>,
+}
+
+/// The variants of a site: the default, each unknown at both ends, each rule of ours off and
+/// doubled (or halved).
+fn variants(site: Site) -> Vec<Variant> {
+    let d = Unknowns::default();
+    let plain = |unknown: &str, setting: String, unknowns: Unknowns| Variant {
+        unknown: unknown.to_string(),
+        setting,
+        unknowns,
+        tilt: None,
+        lift: None,
+    };
+    let mut v = vec![plain("default", "–".into(), d)];
+    for (name, lo, hi) in Unknowns::ranges(site) {
+        v.push(plain(name, "low".into(), lo));
+        v.push(plain(name, "high".into(), hi));
+    }
+    for (rule, values) in [
+        ("roughness tilt factor (ours: 1)", [0.0, 0.5]),
+        ("lift-off obstacle factor (ours: 1)", [0.0, 2.0]),
+    ] {
+        for x in values {
+            let tilt = rule.starts_with("roughness").then_some(x);
+            let lift = rule.starts_with("lift").then_some(x);
+            v.push(Variant {
+                tilt,
+                lift,
+                ..plain(rule, format!("{x}"), d)
+            });
+        }
+    }
+    v
+}
+
+/// Runs every variant of the sites among `names` with `rocks` rocks each.
+pub fn sensitivity(
+    names: &[&str],
+    rocks: u64,
+    seed: u64,
+    threads: usize,
+) -> Result<Vec<SensitivityRow>, Failure> {
+    let mut rows = Vec::new();
+    for &name in names {
+        let site = match name {
+            "vaujany-site1" => Site::One,
+            "vaujany-site2" => Site::Two,
+            _ => continue,
+        };
+        let Some(table2) = published()
+            .into_iter()
+            .find(|p| p.site == name && p.screen.is_none())
+        else {
+            continue;
+        };
+        for v in variants(site) {
+            let mut s: Scenario = vaujany::build_observed_with(site, &v.unknowns)
+                .map_err(|e| Failure::Internal(e.into()))?;
+            s.simulation.rocks_per_cell = rocks;
+            s.seed = seed;
+            s.output.rocks_csv = true;
+            s.output.trajectories = 0;
+            if let Some(t) = v.tilt {
+                s.lumped.roughness_tilt_factor = t;
+            }
+            if let Some(l) = v.lift {
+                s.lumped.lift_off_obstacle_factor = l;
+            }
+            let forest = s.build_forest().map_err(|e| Failure::Internal(e.into()))?;
+            let forest = (!forest.is_empty()).then_some(&forest);
+            let label = format!("{name} sensitivity: {} {}", v.unknown, v.setting);
+            let results = simulate::simulate(&s, forest, threads, &label)?;
+            let simulated =
+                measure::slope_quantities(&results.summary_json(), results.rock_records());
+            let mut case = CaseReport::compare(&table2, "lumped", results.rocks(), &simulated);
+            if let Some(n) = table2.observed_rocks {
+                case.add_fair(&group_maxima(&results, &s, None, n), n);
+            }
+            rows.push(SensitivityRow {
+                case: table2.name.to_string(),
+                unknown: v.unknown,
+                setting: v.setting,
+                rmse_pct: case.rmse_pct,
+                rmse_pct_fair: case.rmse_pct_fair,
+            });
+        }
+    }
+    Ok(rows)
+}
