@@ -184,15 +184,36 @@ impl Ground {
     /// the centre's height is continuous over breaks of slope. `None` off the surface.
     pub fn centre_z_m(&self, x_m: f64, y_m: f64, radius_m: f64) -> Option<f64> {
         let lat = &self.lattice;
-        let z = lat.height_m(x_m, y_m)?;
         let (i, j, u, v) = lat.patch_of(x_m, y_m)?;
-        let mut g = [(0.0, 0.0); 4];
-        for (k, (di, dj)) in [(0, 0), (1, 0), (0, 1), (1, 1)].into_iter().enumerate() {
-            g[k] = self.node_gradient(i + di, j + dj);
+        let (z00, a, b, c) = lat.patch(i, j)?;
+        let z = z00 + a * u + b * v + c * u * v;
+        // the 4 × 4 nodes around the patch: z[dj][di] at (i − 1 + di, j − 1 + dj)
+        let mut zn = [[f64::NAN; 4]; 4];
+        for (dj, row) in zn.iter_mut().enumerate() {
+            for (di, zz) in row.iter_mut().enumerate() {
+                *zz = lat.node_z(i - 1 + di as i64, j - 1 + dj as i64);
+            }
         }
-        let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
-        let gx = lerp(lerp(g[0].0, g[1].0, u), lerp(g[2].0, g[3].0, u), v);
-        let gy = lerp(lerp(g[0].1, g[1].1, u), lerp(g[2].1, g[3].1, u), v);
+        let inv_2h = 0.5 * lat.inv_cell_size();
+        let inv_h = lat.inv_cell_size();
+        // central difference across a node, one-sided where a neighbour is missing
+        let diff = |lo: f64, mid: f64, hi: f64| match (lo.is_finite(), hi.is_finite()) {
+            (true, true) => (hi - lo) * inv_2h,
+            (true, false) => (mid - lo) * inv_h,
+            (false, true) => (hi - mid) * inv_h,
+            (false, false) => 0.0,
+        };
+        let grad = |di: usize, dj: usize| {
+            let mid = zn[dj][di];
+            (
+                diff(zn[dj][di - 1], mid, zn[dj][di + 1]),
+                diff(zn[dj - 1][di], mid, zn[dj + 1][di]),
+            )
+        };
+        let (g00, g10, g01, g11) = (grad(1, 1), grad(2, 1), grad(1, 2), grad(2, 2));
+        let lerp = |p: f64, q: f64, t: f64| p + (q - p) * t;
+        let gx = lerp(lerp(g00.0, g10.0, u), lerp(g01.0, g11.0, u), v);
+        let gy = lerp(lerp(g00.1, g10.1, u), lerp(g01.1, g11.1, u), v);
         Some(z + radius_m * (1.0 + gx * gx + gy * gy).sqrt())
     }
 
@@ -207,24 +228,6 @@ impl Ground {
         let (gx, gy) = ((a + 0.5 * c) * inv_h, (b + 0.5 * c) * inv_h);
         let z = z00 + a * u + b * v + c * u * v;
         Some(z + radius_m * (1.0 + gx * gx + gy * gy).sqrt())
-    }
-
-    /// DEM gradient (∂z/∂x, ∂z/∂y) at lattice node (i, j) by central differences, one-sided
-    /// where a neighbour is missing, 0 where both are.
-    fn node_gradient(&self, i: i64, j: i64) -> (f64, f64) {
-        let lat = &self.lattice;
-        let z = lat.node_z(i, j);
-        let h = lat.cell_size_m();
-        let diff = |lo: f64, hi: f64| match (lo.is_finite(), hi.is_finite()) {
-            (true, true) => (hi - lo) / (2.0 * h),
-            (true, false) => (z - lo) / h,
-            (false, true) => (hi - z) / h,
-            (false, false) => 0.0,
-        };
-        let gx = diff(lat.node_z(i - 1, j), lat.node_z(i + 1, j));
-        let gy = diff(lat.node_z(i, j - 1), lat.node_z(i, j + 1));
-        let ok = |g: f64| if g.is_finite() { g } else { 0.0 };
-        (ok(gx), ok(gy))
     }
 
     /// Up to eight neighbours of cell `index` with a valid height: (index, dx, dy) in cells.

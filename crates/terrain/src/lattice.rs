@@ -141,8 +141,9 @@ impl Lattice {
         if !(u >= -TOL && v >= -TOL && u <= mu + TOL && v <= mv + TOL) {
             return None;
         }
-        let i = (u.max(0.0).floor() as i64).min(mu as i64 - 1);
-        let j = (v.max(0.0).floor() as i64).min(mv as i64 - 1);
+        // non-negative: truncation is the floor (and cheaper than a call to floor)
+        let i = (u.max(0.0) as i64).min(mu as i64 - 1);
+        let j = (v.max(0.0) as i64).min(mv as i64 - 1);
         Some((i, j, u - i as f64, v - j as f64))
     }
 
