@@ -8,12 +8,10 @@
 mod common;
 
 use rockfall_forest::{Forest, Species, Stem};
-use rockfall_lumped::{LumpedModel, RunOptions};
 use rockfall_raster::Field;
-use rockfall_results::{Event, Layout, Outcome, Results, RockRecord, RunInfo};
+use rockfall_results::{Event, Layout, Outcome, Results, RockRecord};
 use rockfall_scenario::{ForestSpec, Release, ReleasePoint, RockSpec, Scenario};
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
-use std::sync::Arc;
 
 const CELL_M: f64 = 2.5;
 /// 400 m wide, the slope falling south.
@@ -63,19 +61,13 @@ fn scenario_at(t: Terrain, below_top_m: f64, rocks: u64, height_m: f64, speed_ms
 }
 
 fn run(s: &Scenario, forest: Option<&Forest>, trajectories: u64) -> Results {
-    let model = LumpedModel::new(s, forest).unwrap();
-    let layout = Arc::new(Layout {
+    let layout = Layout {
         crs: None,
         trajectories,
         rock_ends: true,
         ..Layout::of(s)
-    });
-    let opts = RunOptions {
-        threads: 2,
-        progress: None,
     };
-    let tally = model.run(layout.clone(), &opts).unwrap();
-    Results::new(&layout, tally, RunInfo::default())
+    common::run(s, forest, layout)
 }
 
 fn quantile(mut v: Vec<f64>, p: f64) -> f64 {

@@ -11,16 +11,15 @@ mod common;
 
 use rand::RngExt;
 use rockfall_forest::{Forest, Species, Stem};
+use rockfall_lumped::G_MS2;
 use rockfall_lumped::body::RockBody;
-use rockfall_lumped::{G_MS2, LumpedModel, RunOptions};
 use rockfall_raster::{Field, Grid};
-use rockfall_results::{Event, Layout, Results, RunInfo, TrajectoryRow};
+use rockfall_results::{Event, Layout, Results, TrajectoryRow};
 use rockfall_scenario::{
     BlockShape, ForestSpec, LumpedSettings, Release, ReleasePoint, RockSpec, Scenario,
     TangentialLaw,
 };
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
-use std::sync::Arc;
 
 const DIAMETER_M: f64 = 1.0;
 const R: f64 = 0.5 * DIAMETER_M;
@@ -60,19 +59,13 @@ fn scenario(terrain: Terrain, points: Vec<ReleasePoint>, rocks: u64) -> Scenario
 }
 
 fn run(s: &Scenario, forest: Option<&Forest>, trajectories: u64) -> Results {
-    let model = LumpedModel::new(s, forest).unwrap();
-    let layout = Arc::new(Layout {
+    let layout = Layout {
         crs: None,
         percentiles: vec![50.0, 95.0],
         trajectories,
         ..Layout::of(s)
-    });
-    let opts = RunOptions {
-        threads: 2,
-        progress: None,
     };
-    let tally = model.run(layout.clone(), &opts).unwrap();
-    Results::new(&layout, tally, RunInfo::default())
+    common::run(s, forest, layout)
 }
 
 /// A number of the summary (`serde_json::Value` is not nameable here: no dependency).

@@ -54,16 +54,20 @@ Each site's table 2 case run \
          result.\n\n| case | what moves | value | RMSE | fair RMSE |\n|---|---|---|--:|--:|\n",
     );
     for r in rows {
-        t += &format!(
-            "| {} | {} | {} | {} | {} |\n",
-            r.case,
-            r.unknown,
-            r.setting,
-            rmse(r.rmse_pct),
-            rmse(r.rmse_pct_fair)
-        );
+        t += &format!("| {} |\n", sensitivity_cells(r).join(" | "));
     }
     t + "\n"
+}
+
+/// A sensitivity row's cells: case, what moves, value, RMSE, fair RMSE.
+fn sensitivity_cells(r: &SensitivityRow) -> [String; 5] {
+    [
+        r.case.clone(),
+        r.unknown.clone(),
+        r.setting.clone(),
+        rmse(r.rmse_pct),
+        rmse(r.rmse_pct_fair),
+    ]
 }
 
 /// The sensitivity table for the terminal (empty without rows).
@@ -76,14 +80,8 @@ pub fn sensitivity_terminal(rows: &[SensitivityRow]) -> String {
         "case", "what moves", "value", "RMSE", "fair"
     );
     for r in rows {
-        t += &format!(
-            "  {:<16} {:<52} {:<10} {:>9} {:>9}\n",
-            r.case,
-            r.unknown,
-            r.setting,
-            rmse(r.rmse_pct),
-            rmse(r.rmse_pct_fair)
-        );
+        let [case, unknown, setting, ours, fair] = sensitivity_cells(r);
+        t += &format!("  {case:<16} {unknown:<52} {setting:<10} {ours:>9} {fair:>9}\n");
     }
     t
 }
