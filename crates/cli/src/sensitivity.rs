@@ -107,3 +107,32 @@ pub fn sensitivity(
     }
     Ok(rows)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_variant_moves_one_thing() {
+        let v = variants(Site::One);
+        let d = Unknowns::default();
+        assert_eq!(v[0].unknown, "default");
+        assert!(v[0].unknowns == d && v[0].tilt.is_none() && v[0].lift.is_none());
+        // every unknown at both ends, then our two rules at two values each
+        assert_eq!(v.len(), 1 + 2 * Unknowns::ranges(Site::One).len() + 4);
+        for pair in v[1..].chunks(2) {
+            assert_eq!(pair[0].unknown, pair[1].unknown);
+            assert_ne!(pair[0].setting, pair[1].setting);
+        }
+        let rule = |name: &'static str| v.iter().filter(move |x| x.unknown.starts_with(name));
+        for x in rule("roughness") {
+            assert!(x.unknowns == d && x.lift.is_none());
+            assert!(matches!(x.tilt, Some(t) if t == 0.0 || t == 0.5));
+        }
+        for x in rule("lift-off") {
+            assert!(x.unknowns == d && x.tilt.is_none());
+            assert!(matches!(x.lift, Some(l) if l == 0.0 || l == 2.0));
+        }
+        assert_eq!(rule("roughness").count() + rule("lift-off").count(), 4);
+    }
+}

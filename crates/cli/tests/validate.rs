@@ -167,7 +167,15 @@ fn quick_vaujany_cases_compute_eqs_5_and_6_from_their_runs() {
                 );
                 // groups of the observed rocks (at a screen, those crossing it)
                 assert!(f(&g["group"]) <= n && f(&g["group"]) > 0.0, "{name}: {r}");
-                if !name.contains("screen") {
+                if let Some((site, m)) = name.split_once("/screen-") {
+                    // at a screen: the observed rocks times the simulated share crossing it
+                    let sum = json(&out.join(site).join("summary.json"));
+                    let crossings = f(&screen(&sum, &format!("screen_{m}"))["crossings"]);
+                    assert!(
+                        (f(&g["group"]) - n * crossings / 1000.0).abs() < 1e-9,
+                        "{r}"
+                    );
+                } else {
                     assert_eq!(f(&g["group"]), n);
                 }
                 let e = f(&r["error_pct_fair"]);
@@ -181,6 +189,11 @@ fn quick_vaujany_cases_compute_eqs_5_and_6_from_their_runs() {
             if key.ends_with("_pct") {
                 let (lo, hi) = (f(&ci[0]), f(&ci[1]));
                 assert!(lo < o && o < hi && hi - lo < 25.0, "{name}: {r}");
+                let [wlo, whi] = rockfall_validation::fair::wilson_ci95(o, n as u32);
+                assert!(
+                    (lo - wlo).abs() < 1e-9 && (hi - whi).abs() < 1e-9,
+                    "{name}: {r}"
+                );
             } else {
                 assert!(ci.is_null(), "{name}: {r}");
             }
@@ -192,8 +205,13 @@ fn quick_vaujany_cases_compute_eqs_5_and_6_from_their_runs() {
     let sens = v["sensitivity"].as_array().unwrap();
     for site in ["vaujany-site1", "vaujany-site2"] {
         let rows: Vec<&Value> = sens.iter().filter(|r| r["case"] == site).collect();
-        assert_eq!(rows.len(), 15, "{site}: {rows:?}");
+        assert_eq!(rows.len(), 13, "{site}: {rows:?}");
         assert_eq!(rows[0]["unknown"], "default");
+        // each unknown and rule, at both ends of its range, moves the result
+        for pair in rows[1..].chunks(2) {
+            assert_eq!(pair[0]["unknown"], pair[1]["unknown"]);
+            assert_ne!(f(&pair[0]["rmse_pct"]), f(&pair[1]["rmse_pct"]), "{pair:?}");
+        }
         for r in rows {
             assert!(
                 f(&r["rmse_pct"]) > 0.0 && f(&r["rmse_pct_fair"]) > 0.0,

@@ -117,6 +117,22 @@ mod tests {
     }
 
     #[test]
+    fn quantiles_never_pass_the_exact_maximum() {
+        // the last bin reaches 100 but the largest value counted is 93
+        let d = Distribution {
+            count: 10,
+            max: Some(93.0),
+            bins: vec![Bin {
+                lo: 90.0,
+                hi: 100.0,
+                count: 10,
+            }],
+        };
+        assert_eq!(quantile(&d, 1.0), Some(93.0));
+        assert!((quantile(&d, 0.2).unwrap() - 92.0).abs() < 1e-9);
+    }
+
+    #[test]
     fn group_maximum_by_order_statistics() {
         // the largest of m uniforms on [0, 100): P(max ≤ x) = (x/100)^m
         let d = uniform(1000);
