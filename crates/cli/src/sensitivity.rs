@@ -1,6 +1,7 @@
 //! The sensitivity table of `rockfall validate`: each Vaujany site's table 2 case run again
 //! with one unknown of the reconstruction (`vaujany::Unknowns`) or one rule of ours (the
-//! settings `roughness_tilt_factor` and `lift_off_obstacle_factor`, docs/lumped-model.md)
+//! settings `roughness_tilt_factor` and `lift_off_obstacle_factor`, docs/lumped-model.md) or
+//! Pfeiffer & Bowen's velocity scale of r_n (`rn_velocity_scale_ms`)
 //! at each end of its plausible range, so that a reader sees which rows the reconstruction
 //! decides and which the model does.
 
@@ -18,10 +19,11 @@ struct Variant {
     unknowns: Unknowns,
     tilt: Option<f64>,
     lift: Option<f64>,
+    rn_scale: Option<f64>,
 }
 
-/// The variants of a site: the default, each unknown at both ends, each rule of ours off and
-/// doubled (or halved).
+/// The variants of a site: the default, each unknown at both ends, each rule of ours (and
+/// Pfeiffer & Bowen's velocity scale of r_n) off and doubled (or halved).
 fn variants(site: Site) -> Vec<Variant> {
     let d = Unknowns::default();
     let plain = |unknown: &str, setting: String, unknowns: Unknowns| Variant {
@@ -30,6 +32,7 @@ fn variants(site: Site) -> Vec<Variant> {
         unknowns,
         tilt: None,
         lift: None,
+        rn_scale: None,
     };
     let mut v = vec![plain("default", "–".into(), d)];
     for (name, lo, hi) in Unknowns::ranges(site) {
@@ -39,13 +42,16 @@ fn variants(site: Site) -> Vec<Variant> {
     for (rule, values) in [
         ("roughness tilt factor (ours: 1)", [0.0, 0.5]),
         ("lift-off obstacle factor (ours: 1)", [0.0, 2.0]),
+        (
+            "r_n velocity scale K (P&B: 9.144 m/s; 0: off)",
+            [0.0, 18.288],
+        ),
     ] {
         for x in values {
-            let tilt = rule.starts_with("roughness").then_some(x);
-            let lift = rule.starts_with("lift").then_some(x);
             v.push(Variant {
-                tilt,
-                lift,
+                tilt: rule.starts_with("roughness").then_some(x),
+                lift: rule.starts_with("lift").then_some(x),
+                rn_scale: rule.starts_with("r_n velocity").then_some(x),
                 ..plain(rule, format!("{x}"), d)
             });
         }
@@ -86,6 +92,9 @@ pub fn sensitivity(
             if let Some(l) = v.lift {
                 s.lumped.lift_off_obstacle_factor = l;
             }
+            if let Some(k) = v.rn_scale {
+                s.lumped.rn_velocity_scale_ms = k;
+            }
             let forest = s.build_forest().map_err(|e| Failure::Internal(e.into()))?;
             let forest = (!forest.is_empty()).then_some(&forest);
             let label = format!("{name} sensitivity: {} {}", v.unknown, v.setting);
@@ -118,21 +127,26 @@ mod tests {
         let d = Unknowns::default();
         assert_eq!(v[0].unknown, "default");
         assert!(v[0].unknowns == d && v[0].tilt.is_none() && v[0].lift.is_none());
-        // every unknown at both ends, then our two rules at two values each
-        assert_eq!(v.len(), 1 + 2 * Unknowns::ranges(Site::One).len() + 4);
+        // every unknown at both ends, then three rules at two values each
+        assert_eq!(v.len(), 1 + 2 * Unknowns::ranges(Site::One).len() + 6);
         for pair in v[1..].chunks(2) {
             assert_eq!(pair[0].unknown, pair[1].unknown);
             assert_ne!(pair[0].setting, pair[1].setting);
         }
         let rule = |name: &'static str| v.iter().filter(move |x| x.unknown.starts_with(name));
         for x in rule("roughness") {
-            assert!(x.unknowns == d && x.lift.is_none());
+            assert!(x.unknowns == d && x.lift.is_none() && x.rn_scale.is_none());
             assert!(matches!(x.tilt, Some(t) if t == 0.0 || t == 0.5));
         }
         for x in rule("lift-off") {
-            assert!(x.unknowns == d && x.tilt.is_none());
+            assert!(x.unknowns == d && x.tilt.is_none() && x.rn_scale.is_none());
             assert!(matches!(x.lift, Some(l) if l == 0.0 || l == 2.0));
         }
-        assert_eq!(rule("roughness").count() + rule("lift-off").count(), 4);
+        for x in rule("r_n velocity") {
+            assert!(x.unknowns == d && x.tilt.is_none() && x.lift.is_none());
+            assert!(matches!(x.rn_scale, Some(k) if k == 0.0 || k == 18.288));
+        }
+        let rules = ["roughness", "lift-off", "r_n velocity"];
+        assert_eq!(rules.iter().map(|r| rule(r).count()).sum::<usize>(), 6);
     }
 }

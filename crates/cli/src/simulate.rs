@@ -101,6 +101,7 @@ fn lumped_parameters(
         "slope_reduction_max_deg": l.slope_reduction_max_deg,
         "max_lateral_deviation_deg": l.max_lateral_deviation_deg,
         "stop_velocity_ms": l.stop_velocity_ms,
+        "rn_velocity_scale_ms": l.rn_velocity_scale_ms,
         "roughness_tilt_factor": l.roughness_tilt_factor,
         "lift_off_obstacle_factor": l.lift_off_obstacle_factor,
         "max_time_s": scenario.simulation.max_time_s,

@@ -255,11 +255,12 @@ fn lumped_settings(l: &LumpedSettings) -> String {
     };
     format!(
         "lumped: tangential rebound law {}, MOH {moh} per rebound, r_t ± {} %, slope lowered by \
-         up to {}°, sideways roughness tilt × {}, lateral deviation ≤ {}°, lift-off above {} × MOH, \
-         stop below {} m/s",
+         up to {}°, r_n / (1 + (v_n/{} m/s)²), roughness tilt × {}, lateral deviation ≤ {}°, \
+         lift-off above {} × MOH, stop below {} m/s",
         l.tangential.name(),
         100.0 * l.rt_variation,
         l.slope_reduction_max_deg,
+        l.rn_velocity_scale_ms,
         l.roughness_tilt_factor,
         l.max_lateral_deviation_deg,
         l.lift_off_obstacle_factor,

@@ -354,6 +354,7 @@ impl Resolver {
                 .max_lateral_deviation_deg
                 .unwrap_or(d.max_lateral_deviation_deg),
             stop_velocity_ms: l.stop_velocity_ms.unwrap_or(d.stop_velocity_ms),
+            rn_velocity_scale_ms: l.rn_velocity_scale_ms.unwrap_or(d.rn_velocity_scale_ms),
             roughness_tilt_factor: l.roughness_tilt_factor.unwrap_or(d.roughness_tilt_factor),
             lift_off_obstacle_factor: l
                 .lift_off_obstacle_factor

@@ -135,6 +135,7 @@ pub struct LumpedSec {
     pub slope_reduction_max_deg: Option<f64>,
     pub max_lateral_deviation_deg: Option<f64>,
     pub stop_velocity_ms: Option<f64>,
+    pub rn_velocity_scale_ms: Option<f64>,
     pub roughness_tilt_factor: Option<f64>,
     pub lift_off_obstacle_factor: Option<f64>,
 }

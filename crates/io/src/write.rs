@@ -272,12 +272,13 @@ fn settings_toml(s: &Scenario, t: &mut String) {
     let moh = l.moh.name();
     let _ = write!(
         t,
-        "\n[lumped]\nmoh = \"{moh}\"\ntangential_law = \"{}\"\nrt_variation = {}\nslope_reduction_max_deg = {}\nmax_lateral_deviation_deg = {}\nstop_velocity_ms = {}\nroughness_tilt_factor = {}\nlift_off_obstacle_factor = {}\n",
+        "\n[lumped]\nmoh = \"{moh}\"\ntangential_law = \"{}\"\nrt_variation = {}\nslope_reduction_max_deg = {}\nmax_lateral_deviation_deg = {}\nstop_velocity_ms = {}\nrn_velocity_scale_ms = {}\nroughness_tilt_factor = {}\nlift_off_obstacle_factor = {}\n",
         l.tangential.name(),
         num(l.rt_variation),
         num(l.slope_reduction_max_deg),
         num(l.max_lateral_deviation_deg),
         num(l.stop_velocity_ms),
+        num(l.rn_velocity_scale_ms),
         num(l.roughness_tilt_factor),
         num(l.lift_off_obstacle_factor)
     );

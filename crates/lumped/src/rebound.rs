@@ -1,7 +1,9 @@
 //! A ground rebound (seed 000 §2.5; Pfeiffer & Bowen 1989 as adapted by Dorren et al. 2004).
 //!
 //! In the frame of the local surface, lowered and tilted as below:
-//! - **normal**: `v_n⁺ = r_n · |v_n⁻|`, r_n of the cell's surface class (seed 000 §2.5);
+//! - **normal**: `v_n⁺ = r_n · |v_n⁻| / (1 + (|v_n⁻|/9.144)²)`, r_n of the cell's surface class
+//!   (seed 000 §2.5) scaled down at fast impacts as in Pfeiffer & Bowen's rebound (CRSP), which
+//!   seed 000 modifies ([`normal_speed_ms`]);
 //! - **tangential with rotation**: Pfeiffer & Bowen (1989, CRSP) let the rock leave the ground
 //!   rolling, its tangential speed set by the tangential and rotational energy it brought in,
 //!   scaled by a friction and a scaling factor: `v_t⁺ = √(R²(I ω⁻² + m v_t⁻²) f(F) SF /
@@ -185,7 +187,7 @@ pub fn rebound(
     let variation = 1.0 + settings.rt_variation * (2.0 * rng.random::<f64>() - 1.0);
     let r_t = (tangential_coefficient(moh, body.radius_m) * variation).clamp(0.0, 1.0);
     let vt_ms = tangential_speed_ms(settings.tangential, r_t, vt_in, omega_in, body);
-    let vn_ms = cell.r_n.clamp(0.0, 1.0) * (-vn_in).max(0.0);
+    let vn_ms = normal_speed_ms(cell.r_n, (-vn_in).max(0.0), settings.rn_velocity_scale_ms);
     Rebound {
         normal: n,
         tangent,
@@ -193,6 +195,21 @@ pub fn rebound(
         vn_ms,
         r_t,
         moh_m: moh,
+    }
+}
+
+/// Outgoing normal speed (m/s) of a rock hitting the ground at `vn_in_ms` (≥ 0, m/s) on a
+/// surface of normal coefficient `r_n`: Pfeiffer & Bowen (1989, CRSP) scale r_n down at fast
+/// impacts, `v_n⁺ = r_n v_n⁻ / (1 + (v_n⁻ / K)²)` with K = 9.144 m/s (`scale_ms`; PlatRock
+/// 0.4.6 `Pfeiffer` implements the same), so that the normal rebound never exceeds
+/// `r_n K / 2`; `scale_ms` = 0 keeps r_n constant (`v_n⁺ = r_n v_n⁻`).
+#[inline]
+pub fn normal_speed_ms(r_n: f64, vn_in_ms: f64, scale_ms: f64) -> f64 {
+    let v = r_n.clamp(0.0, 1.0) * vn_in_ms;
+    if scale_ms > 0.0 {
+        v / (1.0 + (vn_in_ms / scale_ms) * (vn_in_ms / scale_ms))
+    } else {
+        v
     }
 }
 
@@ -323,7 +340,8 @@ mod tests {
             &mut rng,
         );
         assert!((r.r_t - 0.8).abs() < 1e-12);
-        assert!((r.vn_ms - 1.6).abs() < 1e-12);
+        // r_n scaled by the impact speed (CRSP): 0.4 · 4 / (1 + (4/9.144)²)
+        assert!((r.vn_ms - 1.6 / (1.0 + (4.0f64 / 9.144).powi(2))).abs() < 1e-12);
         (b, v, w, r)
     }
 
@@ -358,6 +376,23 @@ mod tests {
         let (v2, w2) = compose(r.normal, r.tangent, r.vt_ms, 0.0, b.radius_m);
         let e_in = energy(&b, V3::new(v.x, v.y, 0.0), w);
         assert!((energy(&b, v2, w2) - 0.8 * e_in).abs() < 1e-9 * e_in);
+    }
+
+    #[test]
+    fn normal_restitution_falls_with_the_impact_speed() {
+        // CRSP: r_n / (1 + (v/9.144)²); at v = 9.144 m/s half of r_n v
+        assert!((normal_speed_ms(0.4, 9.144, 9.144) - 0.5 * 0.4 * 9.144).abs() < 1e-12);
+        assert!(
+            (normal_speed_ms(0.4, 3.0, 9.144) - 1.2 / (1.0 + (3.0f64 / 9.144).powi(2))).abs()
+                < 1e-12
+        );
+        // never above r_n K / 2, whatever the impact speed
+        for v in [1.0, 5.0, 9.144, 20.0, 50.0, 200.0] {
+            assert!(normal_speed_ms(0.5, v, 9.144) <= 0.25 * 9.144 + 1e-12);
+        }
+        // 0 keeps r_n constant; r_n is capped at 1
+        assert_eq!(normal_speed_ms(0.4, 20.0, 0.0), 8.0);
+        assert_eq!(normal_speed_ms(1.5, 2.0, 0.0), 2.0);
     }
 
     #[test]

@@ -105,8 +105,10 @@ fn first_rebounds_by_hand(law: TangentialLaw) {
         ..ReleasePoint::at_rest(x0, y0, h)
     };
     let mut s = scenario(t, vec![p], 1);
+    // r_n constant here (its scaling by the impact speed is checked at the end)
     s.lumped = LumpedSettings {
         tangential: law,
+        rn_velocity_scale_ms: 0.0,
         ..LumpedSettings::deterministic()
     };
     let res = run(&s, None, 1);
@@ -184,6 +186,24 @@ fn first_rebounds_by_hand(law: TangentialLaw) {
     let sum = res.summary_json();
     assert_eq!(f!(sum["stopped_fraction"]), 1.0);
     assert_eq!(f!(sum["rebounds_per_rock"]), 3.0);
+
+    // with Pfeiffer & Bowen's scaling (the default, K = 9.144 m/s) the first rebound keeps
+    // r_n / (1 + (v_n/K)²) of the impact speed g t1 = 9.90 m/s: 2.28 instead of 4.95 m/s
+    s.lumped.rn_velocity_scale_ms = 9.144;
+    let res = run(&s, None, 1);
+    let first = res
+        .trajectories()
+        .iter()
+        .find(|r| r.event == Event::Impact)
+        .unwrap();
+    let v_imp = G_MS2 * t1;
+    let expected = r_n * v_imp / (1.0 + (v_imp / 9.144).powi(2));
+    assert!(
+        close(first.vz_ms, expected, 1e-9),
+        "vz {} vs {expected}",
+        first.vz_ms
+    );
+    assert!(close(first.vx_ms, vt1, 1e-9));
 }
 
 #[test]

@@ -124,6 +124,9 @@ pub struct LumpedSettings {
     pub max_lateral_deviation_deg: f64,
     /// A rock slower than this has stopped, m/s (seed 000 §4: 0.1 m/s).
     pub stop_velocity_ms: f64,
+    /// Pfeiffer & Bowen's velocity scale of the normal restitution, m/s:
+    /// `r_n / (1 + (v_n / K)²)` with K = 9.144 m/s (30 ft/s, CRSP); 0 keeps r_n constant.
+    pub rn_velocity_scale_ms: f64,
     /// Scale of the sideways tilt of the surface by the roughness at the first rebound in a
     /// cell, `± u₁(1 − u₂) atan(MOH/R)` (PlatRock's rebound; 1 by default, 0 turns it off).
     pub roughness_tilt_factor: f64,
@@ -142,6 +145,7 @@ impl Default for LumpedSettings {
             slope_reduction_max_deg: 4.0,
             max_lateral_deviation_deg: 45.0,
             stop_velocity_ms: 0.1,
+            rn_velocity_scale_ms: 9.144,
             roughness_tilt_factor: 1.0,
             lift_off_obstacle_factor: 1.0,
         }

@@ -286,7 +286,7 @@ impl Scenario {
     fn check_settings(&self) -> Check {
         let l = &self.lumped;
         let s = &self.simulation;
-        let checks: [(&str, f64, bool, &str); 10] = [
+        let checks: [(&str, f64, bool, &str); 11] = [
             (
                 "lumped.rt_variation",
                 l.rt_variation,
@@ -310,6 +310,12 @@ impl Scenario {
                 l.stop_velocity_ms,
                 l.stop_velocity_ms > 0.0 && l.stop_velocity_ms.is_finite(),
                 "> 0 m/s",
+            ),
+            (
+                "lumped.rn_velocity_scale_ms",
+                l.rn_velocity_scale_ms,
+                l.rn_velocity_scale_ms >= 0.0 && l.rn_velocity_scale_ms.is_finite(),
+                "≥ 0 m/s (0: r_n constant)",
             ),
             (
                 "lumped.roughness_tilt_factor",
