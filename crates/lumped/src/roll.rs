@@ -2,9 +2,8 @@
 //! become small, stop below 0.1 m/s).
 //!
 //! A rolling rock keeps its centre R from the ground along the normal and moves along the
-//! surface. Its
-//! equation of motion is that of a body rolling without slip against a Coulomb-type rolling
-//! resistance: `a = k (g_t − μ_r g n_z û)`, with `g_t` gravity's component in the tangent
+//! surface. Its equation of motion is that of a body rolling without slip against a
+//! Coulomb-type friction: `a = k (g_t − μ g n_z û)`, with `g_t` gravity's component in the tangent
 //! plane, `n_z` the vertical component of the surface normal, `û` the direction of motion and
 //! `k = m R² / (m R² + I)` (5/7 for a sphere).
 //!
@@ -24,7 +23,7 @@
 //! gains energy from the stepping; the
 //! direction is the predicted velocity projected onto the new tangent plane. The rock leaves
 //! the ground (back to flight) when the free parabola would stay above the ground over the
-//! step — at a convex break of slope. It stops when it cannot start from rest (`|g_t| ≤ μ_r g
+//! step — at a convex break of slope. It stops when it cannot start from rest (`|g_t| ≤ μ g
 //! n_z`), when the resistance consumes all its energy within a step, or when its speed falls
 //! below the stop velocity after it has moved: a rock rocking in a hollow stops at its first
 //! turning point instead of jittering.
@@ -71,7 +70,7 @@ pub const ROLL_DT_MIN_S: f64 = 2e-3;
 /// Parameters of one rolling step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RollInput {
-    /// Rolling resistance μ_r.
+    /// Friction coefficient μ (tan φ, [`friction_coefficient`]).
     pub mu_r: f64,
     /// Stop velocity, m/s.
     pub stop_ms: f64,
