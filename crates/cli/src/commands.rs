@@ -30,7 +30,8 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             threads,
             ascii,
         } => {
-            let (mut scenario, forest) = load_checked(&input)?;
+            // the seed first: a stand forest is expanded from it
+            let (mut scenario, forest) = load_checked(&input, seed)?;
             if let Some(e) = engine {
                 scenario.engine = e
                     .parse()
@@ -41,9 +42,6 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             }
             if let Some(n) = rocks_per_point {
                 scenario.simulation.rocks_per_point = n;
-            }
-            if let Some(s) = seed {
-                scenario.seed = s;
             }
             let ascii = ascii || scenario.output.ascii_rasters;
             let threads = simulate::threads(threads);
@@ -124,11 +122,17 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
     }
 }
 
-/// Loads an input and builds its forest; every problem is bad input.
+/// Reads and validates `input` and builds its forest (every problem is bad input); `seed` (a `--seed` flag) replaces the
+/// scenario's seed *before* the forest is built, since a stand forest is expanded into stems
+/// from it: `--seed N` and `seed = N` in the file give the same run.
 pub fn load_checked(
     input: &Path,
+    seed: Option<u64>,
 ) -> Result<(rockfall_scenario::Scenario, rockfall_forest::Forest), Failure> {
-    let scenario = rockfall_io::load(input)?;
+    let mut scenario = rockfall_io::load(input)?;
+    if let Some(s) = seed {
+        scenario.seed = s;
+    }
     let forest = scenario
         .build_forest()
         .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", forest_source(&scenario, input))))?;
@@ -144,7 +148,7 @@ fn forest_source(s: &rockfall_scenario::Scenario, input: &Path) -> String {
 }
 
 fn check(input: &Path) -> Result<(), Failure> {
-    let (scenario, forest) = load_checked(input)?;
+    let (scenario, forest) = load_checked(input, None)?;
     let hull = match scenario.engine {
         Engine::Rigid => Some(rigid_rock(&scenario)?),
         Engine::Lumped => None,

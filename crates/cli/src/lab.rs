@@ -166,7 +166,7 @@ pub fn run_shape_study(flags: &StudyFlags, out: &Path) -> Result<(Study, Vec<Slo
         )));
     }
     let (mut base, forest) = match &flags.input {
-        Some(input) => crate::commands::load_checked(input)?,
+        Some(input) => crate::commands::load_checked(input, flags.seed)?,
         None => {
             let s = rockfall_sites::build("forest-slope-40")
                 .map_err(|e| Failure::Internal(e.into()))?;

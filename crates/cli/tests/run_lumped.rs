@@ -357,3 +357,41 @@ fn rocks_csv_holds_one_row_per_rock_agreeing_with_the_summary() {
         assert_eq!(count(name) as u64, n.as_u64().unwrap(), "outcome {name}");
     }
 }
+
+/// The summary, `Nr_passages.tif` and `Nr_tree_impacts.tif` of a run with 200 rocks and
+/// `extra` flags on `input`, without its timing.
+fn seeded_run(input: &Path, out: &Path, extra: &[&str]) -> (Value, Vec<u8>, Vec<u8>) {
+    let mut flags = vec!["--rocks-per-cell", "200"];
+    flags.extend_from_slice(extra);
+    let sum = without_timing(run(input, out, &flags));
+    let read = |name: &str| std::fs::read(out.join(name)).unwrap();
+    (sum, read("Nr_passages.tif"), read("Nr_tree_impacts.tif"))
+}
+
+#[test]
+fn seed_flag_and_seed_key_give_the_same_run() {
+    let (tmp, dir) = site();
+    let text = std::fs::read_to_string(dir.join("scenario.toml")).unwrap();
+    assert!(text.contains("seed = 1\n") && text.contains("trees_csv = \"trees.csv\""));
+    // the site's tree list, and the same slope with a stand forest expanded from the seed
+    let stands = text.replace(
+        "trees_csv = \"trees.csv\"",
+        "stems_per_ha = 290\ndbh_mean_cm = 31\ndbh_sd_cm = 21",
+    );
+    for (label, body) in [("tree list", &text), ("stands", &stands)] {
+        let flag_input = dir.join(format!("{label}-flag.toml"));
+        let key_input = dir.join(format!("{label}-key.toml"));
+        std::fs::write(&flag_input, body).unwrap();
+        std::fs::write(&key_input, body.replace("seed = 1\n", "seed = 2\n")).unwrap();
+        let out = |n: &str| tmp.path().join(format!("{label}-{n}"));
+        let by_flag = seeded_run(&flag_input, &out("flag"), &["--seed", "2"]);
+        let by_key = seeded_run(&key_input, &out("key"), &[]);
+        assert_eq!(by_flag.0["seed"], 2, "{label}");
+        assert_eq!(by_flag.0, by_key.0, "{label}: summary.json");
+        assert!(by_flag.1 == by_key.1, "{label}: Nr_passages differs");
+        assert!(by_flag.2 == by_key.2, "{label}: Nr_tree_impacts differs");
+        // and the seed matters: seed 1 is another run
+        let seed1 = seeded_run(&flag_input, &out("one"), &[]);
+        assert_ne!(seed1.0, by_flag.0, "{label}: seed 1 vs 2");
+    }
+}
