@@ -11,6 +11,9 @@ use std::path::Path;
 
 /// Runs a subcommand.
 pub fn dispatch(command: Command) -> Result<(), Failure> {
+    if let Some(out) = output_folder(&command) {
+        check_output_folder(out)?;
+    }
     match command {
         Command::Check { input } => check(&input),
         Command::Site { name, out, list } => match (name, out) {
@@ -120,6 +123,31 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             validate::validate(&flags, &out)
         }
     }
+}
+
+/// The output folder a command writes into (`site` checks its own).
+fn output_folder(command: &Command) -> Option<&Path> {
+    match command {
+        Command::Demo { out }
+        | Command::Run { out, .. }
+        | Command::ImpactLab { out, .. }
+        | Command::ShapeStudy { out, .. }
+        | Command::Validate { out, .. } => Some(out),
+        // `site` refuses any existing folder that is not empty, files included
+        Command::Site { .. } | Command::Check { .. } => None,
+    }
+}
+
+/// An output folder that exists as something other than a folder is bad input (exit 2),
+/// found before anything runs.
+fn check_output_folder(out: &Path) -> Result<(), Failure> {
+    if out.exists() && !out.is_dir() {
+        return Err(Failure::BadInput(anyhow!(
+            "{}: exists and is not a folder; --out names the folder the outputs go into",
+            out.display()
+        )));
+    }
+    Ok(())
 }
 
 /// Reads and validates `input` and builds its forest (every problem is bad input); `seed` (a `--seed` flag) replaces the

@@ -280,3 +280,44 @@ fn site_refuses_to_write_over_other_files() {
         &["scenario.toml", "not an empty folder"],
     );
 }
+
+#[test]
+fn an_output_folder_that_is_a_file_is_bad_input() {
+    let (tmp, dir) = site("vaujany-site1");
+    let scenario = dir.join("scenario.toml");
+    let file = tmp.path().join("a-file");
+    std::fs::write(&file, "keep me").unwrap();
+    for args in [
+        vec!["run", s(&scenario), "--out", s(&file)],
+        vec!["demo", "--out", s(&file)],
+        vec!["validate", "vaujany-site1", "--quick", "--out", s(&file)],
+        vec!["impact-lab", "--samples", "2", "--out", s(&file)],
+    ] {
+        bad_input(rockfall(&args), &["a-file", "not a folder"]);
+    }
+    // nothing was written over it
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep me");
+}
+
+#[test]
+fn a_dem_of_kilometre_cells_is_bad_input() {
+    let (_tmp, dir) = site("vaujany-site1");
+    let dem = dir.join("dem.asc");
+    let text = std::fs::read_to_string(&dem).unwrap();
+    let text = text.replace("cellsize 2.5", "cellsize 2500");
+    assert!(text.contains("cellsize 2500"), "no cellsize line to edit");
+    // every grid of the site shares the DEM's cells
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let p = entry.unwrap().path();
+        if p.extension().is_some_and(|e| e == "asc") {
+            let t = std::fs::read_to_string(&p)
+                .unwrap()
+                .replace("cellsize 2.5", "cellsize 2500");
+            std::fs::write(&p, t).unwrap();
+        }
+    }
+    bad_input(
+        rockfall(&["check", s(&dir.join("scenario.toml"))]),
+        &["cell size", "2500", "1000 m"],
+    );
+}

@@ -195,11 +195,15 @@ fn grids_off_the_dem_grid_are_named() {
 
 #[test]
 fn out_of_range_values_name_file_and_cell() {
-    let cases: [(&str, f64, &str); 6] = [
+    let cases: [(&str, f64, &str); 9] = [
         ("soiltype.asc", 9.0, "0–7"),
         ("blshape.asc", 7.0, "0–4"),
-        ("rockdensity.asc", -2700.0, "≥ 0"),
-        ("d1.asc", -0.5, "≥ 0"),
+        ("rockdensity.asc", -2700.0, "1000–6000"),
+        // physically absurd rocks are bad input too
+        ("rockdensity.asc", 1e30, "1000–6000"),
+        ("rockdensity.asc", 500.0, "1000–6000"),
+        ("d1.asc", -0.5, "0–50"),
+        ("d2.asc", 60.0, "0–50"),
         ("rg70.asc", -0.1, "0–100"),
         ("rg10.asc", 150.0, "0–100"),
     ];

@@ -23,6 +23,14 @@ impl Scenario {
             ));
         }
         let dem = *self.terrain.dem.geometry();
+        if !(dem.cell_size_m > 0.0 && dem.cell_size_m <= 1000.0) {
+            return Err(out_of_range(
+                "dem cell size",
+                None,
+                dem.cell_size_m,
+                "> 0 and ≤ 1000 m",
+            ));
+        }
         self.check_rock(&dem)?;
         self.check_release(&dem)?;
         self.check_forest(&dem)?;
@@ -43,14 +51,15 @@ impl Scenario {
                 v.fract() == 0.0 && (0.0..=4.0).contains(&v)
             })?;
         }
+        // physically plausible rock: 0 marks a cell without release
         in_range(
             "rock.density_kg_m3",
             &r.density_kg_m3,
-            "≥ 0 kg/m³",
-            |v| v >= 0.0,
+            "0 (no release) or 1000–6000 kg/m³",
+            |v| v == 0.0 || (1000.0..=6000.0).contains(&v),
         )?;
         for (i, d) in r.dims_m.iter().enumerate() {
-            in_range(dim_name(i), d, "≥ 0 m", |v| v >= 0.0)?;
+            in_range(dim_name(i), d, "0–50 m", |v| (0.0..=50.0).contains(&v))?;
         }
         if let Some(v) = r.volume_m3
             && !(v > 0.0 && v.is_finite())
