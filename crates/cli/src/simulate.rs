@@ -14,6 +14,7 @@ use serde_json::{Value, json};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 /// Worker threads: the request, or every core.
@@ -77,7 +78,20 @@ fn with_progress<T>(
     run: impl FnOnce(&RunOptions<'_>) -> T,
 ) -> T {
     let bar = progress_bar(rocks, label, "rocks");
-    let tick = |n: u64| bar.inc(n);
+    let started = Instant::now();
+    let done = AtomicU64::new(0);
+    let warned = AtomicBool::new(false);
+    let tick = |n: u64| {
+        bar.inc(n);
+        let so_far = done.fetch_add(n, Ordering::Relaxed) + n;
+        if !warned.load(Ordering::Relaxed)
+            && let Some(w) = long_run_warning(rocks, so_far, started.elapsed().as_secs_f64())
+            && !warned.swap(true, Ordering::Relaxed)
+        {
+            // above the progress bar, or plainly on stderr without one
+            bar.suspend(|| eprintln!("{label}: {w}"));
+        }
+    };
     let opts = RunOptions {
         threads,
         progress: Some(&tick),
@@ -85,6 +99,29 @@ fn with_progress<T>(
     let out = run(&opts);
     bar.finish_and_clear();
     out
+}
+
+/// Seconds of running after which the rate is trusted for an estimate.
+const ESTIMATE_AFTER_S: f64 = 3.0;
+/// A run estimated to take longer than this gets a warning, s.
+const LONG_RUN_S: f64 = 3600.0;
+
+/// The warning for a run of `rocks` rocks of which `done` took `elapsed_s`, once the rate has
+/// been measured for [`ESTIMATE_AFTER_S`] and the whole run would take more than an hour:
+/// the estimate, the rocks and the measured rate, so that the user can stop it.
+pub fn long_run_warning(rocks: u64, done: u64, elapsed_s: f64) -> Option<String> {
+    if elapsed_s < ESTIMATE_AFTER_S || done == 0 {
+        return None;
+    }
+    let rate = done as f64 / elapsed_s;
+    let total_s = rocks as f64 / rate;
+    (total_s > LONG_RUN_S).then(|| {
+        format!(
+            "this run will take about {:.1} h: {rocks} rocks at the {rate:.0} rocks/s measured so \
+             far; Ctrl-C stops it (fewer rocks: --rocks-per-cell, --rocks-per-point)",
+            total_s / 3600.0
+        )
+    })
 }
 
 /// Engine parameters of a lumped run recorded in `summary.json`.
@@ -363,5 +400,26 @@ fn print_effect(e: &Value) {
     }
     if let Some(d) = e["e_95_kj"]["mean_difference"].as_f64() {
         println!("  E_95, mean over reached cells: {d:+.1} kJ");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_run_of_more_than_an_hour_is_announced_once_its_rate_is_known() {
+        // 10¹⁴ rocks at 40 000 rocks/s: about 7·10⁵ h
+        let w = long_run_warning(100_000_000_000_000, 120_000, 3.0).unwrap();
+        assert!(w.contains("694444") && w.contains("40000 rocks/s"), "{w}");
+        assert!(
+            w.contains("100000000000000 rocks") && w.contains("Ctrl-C"),
+            "{w}"
+        );
+        // not before the rate has been measured for 3 s, nor for a run of under an hour
+        assert_eq!(long_run_warning(100_000_000_000_000, 1_000, 0.5), None);
+        assert_eq!(long_run_warning(100_000_000, 120_000, 3.0), None);
+        assert!(long_run_warning(200_000_000, 120_000, 3.0).is_some());
+        assert_eq!(long_run_warning(10, 0, 10.0), None);
     }
 }
