@@ -8,9 +8,9 @@
 
 mod common;
 
-use rockfall_forest::{Forest, Species, Stem};
+use rockfall_forest::{Species, Stem};
 use rockfall_raster::Field;
-use rockfall_results::{Event, Layout, Outcome, Results, RockRecord};
+use rockfall_results::{Event, Outcome, RockRecord};
 use rockfall_scenario::{ForestSpec, Release, ReleasePoint, RockSpec, Scenario};
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
 
@@ -61,15 +61,7 @@ fn scenario_at(t: Terrain, below_top_m: f64, rocks: u64, height_m: f64, speed_ms
     s
 }
 
-fn run(s: &Scenario, forest: Option<&Forest>, trajectories: u64) -> Results {
-    let layout = Layout {
-        crs: None,
-        trajectories,
-        rock_ends: true,
-        ..Layout::of(s)
-    };
-    common::run(s, forest, layout)
-}
+use common::run_recorded as run;
 
 fn quantile(mut v: Vec<f64>, p: f64) -> f64 {
     v.sort_by(f64::total_cmp);

@@ -19,28 +19,13 @@ use rockfall_scenario::{
     BlockShape, ForestSpec, LumpedSettings, Release, ReleasePoint, RockSpec, Scenario,
     TangentialLaw,
 };
-use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
+use rockfall_terrain::{Dem, SurfaceMap, Terrain};
 
 const DIAMETER_M: f64 = 1.0;
 const R: f64 = 0.5 * DIAMETER_M;
 const DENSITY: f64 = 2700.0;
 
-/// Terrain with `f(x, y)` at the cell centres, uniform obstacle heights `rg` (m) for the
-/// three cover classes and, when given, a fixed r_n.
-fn terrain(
-    (ncols, nrows, cell_m): (usize, usize, f64),
-    f: impl Fn(f64, f64) -> f64,
-    rg: [f64; 3],
-    r_n: Option<f64>,
-) -> Terrain {
-    let grid = common::dem(
-        common::geometry(ncols, nrows, cell_m, (0.0, 0.0)),
-        |x, y, _, _| f(x, y),
-    );
-    let mut surface = SurfaceMap::uniform(SoilType::new(4).unwrap(), rg[0], rg[1], rg[2]);
-    surface.r_n = r_n.map(Field::Const);
-    Terrain::new(Dem::new(grid).unwrap(), surface).unwrap()
-}
+use common::terrain;
 
 /// A scenario releasing `rocks` spheres of 1 m from each of `points`.
 fn scenario(terrain: Terrain, points: Vec<ReleasePoint>, rocks: u64) -> Scenario {

@@ -9,35 +9,20 @@
 
 mod common;
 
-use rockfall_forest::{Forest, Species, Stem};
+use rockfall_forest::{Species, Stem};
 use rockfall_lumped::body::RockBody;
 use rockfall_lumped::ground::{FlightEnd, Ground};
 use rockfall_lumped::{G_MS2, V3};
-use rockfall_raster::Field;
-use rockfall_results::{Event, Layout, Results, TrajectoryRow};
+use rockfall_results::{Event, Results, TrajectoryRow};
 use rockfall_scenario::{
     BlockShape, ForestSpec, LumpedSettings, Release, ReleasePoint, RockSpec, Scenario,
 };
-use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
+use rockfall_terrain::Terrain;
 use std::f64::consts::{FRAC_PI_4, PI, TAU};
 
 const R: f64 = 0.5;
 
-/// Terrain of `f(x, y)` at the cell centres, obstacle heights `rg`, a fixed r_n if given.
-fn terrain(
-    (ncols, nrows, cell_m): (usize, usize, f64),
-    f: impl Fn(f64, f64) -> f64,
-    rg: [f64; 3],
-    r_n: Option<f64>,
-) -> Terrain {
-    let grid = common::dem(
-        common::geometry(ncols, nrows, cell_m, (0.0, 0.0)),
-        |x, y, _, _| f(x, y),
-    );
-    let mut surface = SurfaceMap::uniform(SoilType::new(4).unwrap(), rg[0], rg[1], rg[2]);
-    surface.r_n = r_n.map(Field::Const);
-    Terrain::new(Dem::new(grid).unwrap(), surface).unwrap()
-}
+use common::{run_recorded as run, terrain};
 
 /// `rocks` spheres of `diameter_m` from each of `points`.
 fn scenario(terrain: Terrain, points: Vec<ReleasePoint>, rocks: u64, diameter_m: f64) -> Scenario {
@@ -53,16 +38,6 @@ fn scenario(terrain: Terrain, points: Vec<ReleasePoint>, rocks: u64, diameter_m:
     );
     s.simulation.rocks_per_point = rocks;
     s
-}
-
-fn run(s: &Scenario, forest: Option<&Forest>, trajectories: u64) -> Results {
-    let layout = Layout {
-        crs: None,
-        trajectories,
-        rock_ends: true,
-        ..Layout::of(s)
-    };
-    common::run(s, forest, layout)
 }
 
 /// A plane falling east at `deg`, 120 m long, uniform obstacle height `rg`.

@@ -4,9 +4,10 @@
 
 use rockfall_forest::Forest;
 use rockfall_lumped::{LumpedModel, RunOptions};
-use rockfall_raster::{Grid, GridGeometry};
+use rockfall_raster::{Field, Grid, GridGeometry};
 use rockfall_results::{Layout, Results, RunInfo};
 use rockfall_scenario::Scenario;
+use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
 use std::sync::Arc;
 
 /// A grid of `ncols × nrows` cells of `cell_m` with its south-west corner at (x_min, y_min).
@@ -43,4 +44,32 @@ pub fn run(scenario: &Scenario, forest: Option<&Forest>, layout: Layout) -> Resu
     };
     let tally = model.run(layout.clone(), &opts).unwrap();
     Results::new(&layout, tally, RunInfo::default())
+}
+
+/// Terrain with `f(x, y)` at the cell centres of `ncols × nrows` cells of `cell_m` from the
+/// origin, soil type 4, uniform obstacle heights `rg` (m) for the three cover classes and,
+/// when given, a fixed r_n.
+pub fn terrain(
+    (ncols, nrows, cell_m): (usize, usize, f64),
+    f: impl Fn(f64, f64) -> f64,
+    rg: [f64; 3],
+    r_n: Option<f64>,
+) -> Terrain {
+    let grid = dem(geometry(ncols, nrows, cell_m, (0.0, 0.0)), |x, y, _, _| {
+        f(x, y)
+    });
+    let mut surface = SurfaceMap::uniform(SoilType::new(4).unwrap(), rg[0], rg[1], rg[2]);
+    surface.r_n = r_n.map(Field::Const);
+    Terrain::new(Dem::new(grid).unwrap(), surface).unwrap()
+}
+
+/// Runs `scenario` recording the first `trajectories` rocks and one record per rock.
+pub fn run_recorded(scenario: &Scenario, forest: Option<&Forest>, trajectories: u64) -> Results {
+    let layout = Layout {
+        crs: None,
+        trajectories,
+        rock_ends: true,
+        ..Layout::of(scenario)
+    };
+    run(scenario, forest, layout)
 }
