@@ -3,10 +3,11 @@
 //! - **Flight** is an exact parabola until the centre reaches the offset surface
 //!   ([`Ground::fly`](crate::ground::Ground::fly)).
 //! - **Rebound** ([`crate::rebound`]): Pfeiffer & Bowen as adapted in seed 000, on the local
-//!   surface lowered by 0–4°, with r_n of the soil class and r_t of eq. 3. At the first
-//!   rebound in a new cell the surface is also tilted sideways by the roughness
-//!   ([`crate::rebound::roughness_tilt`]); the outgoing heading then follows from the incoming
-//!   motion and that surface, within 45° of the incoming heading (§2.3).
+//!   surface lowered by 0–4° and tilted by the roughness ([`crate::rebound::roughness_tilt`]:
+//!   towards the rock at every rebound, sideways only at the first one in a new cell), with
+//!   r_n of the soil class scaled by the impact speed and r_t of eq. 3; the outgoing heading
+//!   follows from the incoming motion and that surface, within 45° of the incoming heading
+//!   (§2.3).
 //! - **Rolling**: a rebound that cannot lift the rock over the obstacle it met
 //!   ([`crate::rebound::lifts_off`], a rule of ours) puts it on the ground, where it rolls
 //!   against the friction of the surface ([`crate::roll`]) until the ground falls away from

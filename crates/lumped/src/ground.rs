@@ -150,8 +150,7 @@ impl Ground {
             };
             // the centre touches the ground R from it along the normal: R/n_z above it, with
             // the patch's normal at its centre (exact on a planar patch)
-            let (gx, gy) = ((a + 0.5 * c) * inv_h, (b + 0.5 * c) * inv_h);
-            let off = offset_m * (1.0 + gx * gx + gy * gy).sqrt();
+            let off = offset_m * inv_nz_at_patch_centre(a, b, c, inv_h);
             // offset surface along the path: S(t) = s0 + s1 t + s2 t²
             let (ul, vl) = (u0 - piece.i as f64, v0 - piece.j as f64);
             let s0 = z00 + off + a * ul + b * vl + c * ul * vl;
@@ -224,10 +223,8 @@ impl Ground {
         let lat = &self.lattice;
         let (i, j, u, v) = lat.patch_of(x_m, y_m)?;
         let (z00, a, b, c) = lat.patch(i, j)?;
-        let inv_h = lat.inv_cell_size();
-        let (gx, gy) = ((a + 0.5 * c) * inv_h, (b + 0.5 * c) * inv_h);
         let z = z00 + a * u + b * v + c * u * v;
-        Some(z + radius_m * (1.0 + gx * gx + gy * gy).sqrt())
+        Some(z + radius_m * inv_nz_at_patch_centre(a, b, c, lat.inv_cell_size()))
     }
 
     /// Up to eight neighbours of cell `index` with a valid height: (index, dx, dy) in cells.
@@ -302,6 +299,15 @@ fn cell_params(
         net_energy_j: energy_kj * 1e3,
         net_height_m: height_m,
     })
+}
+
+/// `1 / n_z = √(1 + |∇z|²)` of the bilinear patch `z00 + a u + b v + c u v` (u, v in cells of
+/// `1 / inv_h` m) at its centre, u = v = ½: the vertical height of a centre 1 m from it along
+/// the normal.
+#[inline]
+fn inv_nz_at_patch_centre(a: f64, b: f64, c: f64, inv_h: f64) -> f64 {
+    let (gx, gy) = ((a + 0.5 * c) * inv_h, (b + 0.5 * c) * inv_h);
+    (1.0 + gx * gx + gy * gy).sqrt()
 }
 
 /// The smallest root of `q0 + q1 t + q2 t²` in `[t_a, t_b]` at which the polynomial is
