@@ -7,10 +7,9 @@
 
 use crate::Failure;
 use crate::simulate;
-use crate::validate::group_maxima;
 use rockfall_scenario::Scenario;
 use rockfall_sites::vaujany::{self, Site, Unknowns};
-use rockfall_validation::{CaseReport, SensitivityRow, measure, published};
+use rockfall_validation::{CaseReport, SensitivityRow, fair, measure, published};
 
 /// How one run differs from the default reconstruction.
 struct Variant {
@@ -103,7 +102,7 @@ pub fn sensitivity(
                 measure::slope_quantities(&results.summary_json(), results.rock_records());
             let mut case = CaseReport::compare(&table2, "lumped", results.rocks(), &simulated);
             if let Some(n) = table2.observed_rocks {
-                case.add_fair(&group_maxima(&results, &s, None, n), n);
+                case.add_fair(&fair::group_maxima(&results, None, n), n);
             }
             rows.push(SensitivityRow {
                 case: table2.name.to_string(),

@@ -4,10 +4,9 @@ use crate::Failure;
 use crate::lab::{StudyFlags, print_files, run_shape_study};
 use crate::simulate;
 use anyhow::anyhow;
-use rockfall_results::{Quantity, Results};
 use rockfall_scenario::{LumpedSettings, MohMode, Scenario};
 use rockfall_sites::vaujany::{self, Site};
-use rockfall_validation::fair::{self, GroupMax};
+use rockfall_validation::fair;
 use rockfall_validation::figure::{FIG2_FILE, tree_impacts_figure};
 use rockfall_validation::shapes::{SHAPES, shape_case};
 use rockfall_validation::{CaseReport, Meta, measure, published, report, write_reports};
@@ -173,7 +172,14 @@ fn vaujany_cases(
         };
         let mut case = CaseReport::compare(p, "lumped", results.rocks(), &simulated);
         if let Some(n) = site_rocks {
-            let maxima = group_maxima(&results, &scenario, p.screen, n);
+            let at = p
+                .screen
+                .map(|name| scenario.screens.iter().position(|s| s.name == name));
+            let maxima = match at {
+                None => fair::group_maxima(&results, None, n),
+                Some(Some(i)) => fair::group_maxima(&results, Some(i), n),
+                Some(None) => BTreeMap::new(), // a screen the site does not have
+            };
             case.add_fair(&maxima, n);
         }
         if let Some(n) = p.observed_rocks
@@ -204,47 +210,6 @@ fn vaujany_cases(
         ));
     }
     Ok((cases, lumped_settings(&scenario.lumped)))
-}
-
-/// The distributions of a case's maxima over groups of `observed_rocks` rocks: the rocks'
-/// largest speed and height on the slope, or at screen `screen` the speed, height and energy of
-/// the crossings of that many rocks (`observed_rocks` times the simulated share crossing).
-pub(crate) fn group_maxima(
-    results: &Results,
-    scenario: &Scenario,
-    screen: Option<&str>,
-    observed_rocks: u32,
-) -> BTreeMap<String, GroupMax> {
-    let n = f64::from(observed_rocks);
-    let quantities: Vec<(&str, Quantity)> = match screen {
-        None => vec![
-            ("max_velocity_ms", Quantity::MaxVelocity),
-            ("max_rebound_height_m", Quantity::MaxJumpHeight),
-        ],
-        Some(name) => match scenario.screens.iter().position(|s| s.name == name) {
-            Some(i) => vec![
-                ("max_velocity_ms", Quantity::ScreenVelocity(i)),
-                ("max_rebound_height_m", Quantity::ScreenJumpHeight(i)),
-                ("max_energy_kj", Quantity::ScreenEnergy(i)),
-            ],
-            None => Vec::new(),
-        },
-    };
-    let rocks = results.rocks().max(1) as f64;
-    let mut out = BTreeMap::new();
-    for (key, q) in quantities {
-        let Some(d) = results.distribution(q) else {
-            continue;
-        };
-        let m = match screen {
-            None => n,
-            Some(_) => n * d.count as f64 / rocks,
-        };
-        if let Some(g) = fair::group_max(&d, m) {
-            out.insert(key.to_string(), g);
-        }
-    }
-    out
 }
 
 /// The lumped engine's settings in a line.

@@ -15,7 +15,8 @@
 //! - each observed **share** gets its 95 % Wilson score interval (Wilson 1927).
 //! - `rmse_pct_fair` is eq. 6 with every maximum replaced by the median of its group maximum.
 
-use rockfall_results::Distribution;
+use rockfall_results::{Distribution, Quantity, Results};
+use std::collections::BTreeMap;
 
 /// Quantiles of the largest of a group of values.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -28,6 +29,44 @@ pub struct GroupMax {
     pub p50: f64,
     /// 95th percentile of the group maximum.
     pub p95: f64,
+}
+
+/// The distributions of a case's maxima (by quantity key of [`crate::observed`]) over groups of
+/// `observed_rocks` rocks: the rocks' largest speed and height on the slope (`screen` None),
+/// or at screen `screen` (its index in the scenario) the speed, height and energy of the
+/// crossings of that many rocks (`observed_rocks` times the simulated share crossing it).
+pub fn group_maxima(
+    results: &Results,
+    screen: Option<usize>,
+    observed_rocks: u32,
+) -> BTreeMap<String, GroupMax> {
+    let quantities = match screen {
+        None => vec![
+            ("max_velocity_ms", Quantity::MaxVelocity),
+            ("max_rebound_height_m", Quantity::MaxJumpHeight),
+        ],
+        Some(i) => vec![
+            ("max_velocity_ms", Quantity::ScreenVelocity(i)),
+            ("max_rebound_height_m", Quantity::ScreenJumpHeight(i)),
+            ("max_energy_kj", Quantity::ScreenEnergy(i)),
+        ],
+    };
+    let n = f64::from(observed_rocks);
+    let rocks = results.rocks().max(1) as f64;
+    let mut out = BTreeMap::new();
+    for (key, q) in quantities {
+        let Some(d) = results.distribution(q) else {
+            continue;
+        };
+        let m = match screen {
+            None => n,
+            Some(_) => n * d.count as f64 / rocks,
+        };
+        if let Some(g) = group_max(&d, m) {
+            out.insert(key.to_string(), g);
+        }
+    }
+    out
 }
 
 /// The quantiles of the largest of `m` independent draws from `d` (m ≥ 1; linear within a
