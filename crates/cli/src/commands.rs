@@ -7,6 +7,7 @@ use crate::simulate;
 use crate::validate;
 use anyhow::anyhow;
 use rockfall_scenario::{Engine, Summary};
+use rockfall_sim::{Overrides, Simulation};
 use std::path::Path;
 
 /// Runs a subcommand.
@@ -33,24 +34,26 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             threads,
             ascii,
         } => {
-            // the seed first: a stand forest is expanded from it
-            let (mut scenario, forest) = load_checked(&input, seed)?;
-            if let Some(e) = engine {
-                scenario.engine = e
-                    .parse()
-                    .map_err(|e: String| Failure::BadInput(anyhow!("--engine: {e}")))?;
-            }
-            if let Some(n) = rocks_per_cell {
-                scenario.simulation.rocks_per_cell = n;
-            }
-            if let Some(n) = rocks_per_point {
-                scenario.simulation.rocks_per_point = n;
-            }
+            let engine = match engine {
+                None => None,
+                Some(e) => Some(
+                    e.parse()
+                        .map_err(|e: String| Failure::BadInput(anyhow!("--engine: {e}")))?,
+                ),
+            };
+            let overrides = Overrides {
+                seed,
+                rocks_per_cell,
+                rocks_per_point,
+                engine,
+                threads: threads.map(|n| n as usize),
+            };
+            // every override before the forest is built: a stand map is expanded from the seed
+            let sim = load_simulation(&input, &overrides)?;
+            let scenario = sim.scenario();
             let ascii = ascii || scenario.output.ascii_rasters;
-            let threads = simulate::threads(threads);
-            let forest = (!forest.is_empty()).then_some(&forest);
-            let results = simulate::simulate(&scenario, forest, threads, "simulating")?;
-            let ctx = simulate::Context::new(&scenario, forest, input.display().to_string());
+            let results = simulate::simulate(scenario, sim.stems(), sim.threads(), "simulating")?;
+            let ctx = simulate::Context::new(scenario, sim.stems(), input.display().to_string());
             simulate::write(&results, &out, ascii, &ctx)?;
             simulate::print_summary(&format!("{}:", scenario.name), &results);
             Ok(())
@@ -150,69 +153,29 @@ fn check_output_folder(out: &Path) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Reads and validates `input` and builds its forest (every problem is bad input); `seed` (a `--seed` flag) replaces the
-/// scenario's seed *before* the forest is built, since a stand forest is expanded into stems
-/// from it: `--seed N` and `seed = N` in the file give the same run.
-pub fn load_checked(
-    input: &Path,
-    seed: Option<u64>,
-) -> Result<(rockfall_scenario::Scenario, rockfall_forest::Forest), Failure> {
-    let mut scenario = rockfall_io::load(input)?;
-    if let Some(s) = seed {
-        scenario.seed = s;
-    }
-    let forest = scenario
-        .build_forest()
-        .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", forest_source(&scenario, input))))?;
-    Ok((scenario, forest))
-}
-
-fn forest_source(s: &rockfall_scenario::Scenario, input: &Path) -> String {
-    s.source_of("forest.trees")
-        .or_else(|| s.source_of("nrtrees"))
-        .unwrap_or(input)
-        .display()
-        .to_string()
+/// Reads `input`, applies `overrides` and builds its forest (every problem is bad input):
+/// the seed is applied *before* the forest is built, since a stand forest is expanded into
+/// stems from it, so `--seed N` and `seed = N` in the file give the same run.
+pub fn load_simulation(input: &Path, overrides: &Overrides) -> Result<Simulation, Failure> {
+    let scenario = rockfall_io::load(input)?;
+    Simulation::new(scenario, overrides).map_err(|e| simulate::sim_failure(e, input))
 }
 
 fn check(input: &Path) -> Result<(), Failure> {
-    let (scenario, forest) = load_checked(input, None)?;
+    let sim = load_simulation(input, &Overrides::default())?;
+    let scenario = sim.scenario();
     let hull = match scenario.engine {
-        Engine::Rigid => Some(rigid_rock(&scenario)?),
+        Engine::Rigid => Some(
+            rockfall_sim::RigidRock::of(scenario).map_err(|e| simulate::sim_failure(e, input))?,
+        ),
         Engine::Lumped => None,
     };
     println!("{}: ok", input.display());
-    print!("{}", Summary::new(&scenario, &forest));
+    print!("{}", Summary::new(scenario, sim.forest()));
     if let Some(hull) = hull {
         println!("{hull}");
     }
     Ok(())
-}
-
-/// The rigid engine's rock, described in a line; an unusable shape is bad input.
-fn rigid_rock(scenario: &rockfall_scenario::Scenario) -> Result<String, Failure> {
-    let body = rockfall_rigid::shape::body_from_spec(&scenario.rock).map_err(|e| {
-        let at = scenario
-            .source_of("rock.shape")
-            .map_or(String::new(), |p| format!("{}: ", p.display()));
-        Failure::BadInput(anyhow!("{at}rock: {e}"))
-    })?;
-    let g = &body.geometry;
-    let [l1, l2, l3] = g.lengths_m;
-    Ok(format!(
-        "rigid rock: convex hull of {} vertices, {} faces; volume {:.4} m³, mass {:.1} kg; \
-         principal moments {:.4}, {:.4}, {:.4} kg m²; axis lengths {l1:.3}, {l2:.3}, {l3:.3} m; \
-         Π = {:.2} ({})",
-        g.vertices_m.len(),
-        g.triangles.len(),
-        g.volume_m3,
-        body.mass_kg,
-        body.inertia_kgm2.x,
-        body.inertia_kgm2.y,
-        body.inertia_kgm2.z,
-        g.aspect_ratio(),
-        g.class().name()
-    ))
 }
 
 fn site(name: &str, out: &Path) -> Result<(), Failure> {

@@ -166,7 +166,13 @@ pub fn run_shape_study(flags: &StudyFlags, out: &Path) -> Result<(Study, Vec<Slo
         )));
     }
     let (mut base, forest) = match &flags.input {
-        Some(input) => crate::commands::load_checked(input, flags.seed)?,
+        Some(input) => {
+            let overrides = rockfall_sim::Overrides {
+                seed: flags.seed,
+                ..Default::default()
+            };
+            crate::commands::load_simulation(input, &overrides)?.into_parts()
+        }
         None => {
             let s = rockfall_sites::build("forest-slope-40")
                 .map_err(|e| Failure::Internal(e.into()))?;

@@ -5,69 +5,52 @@ use crate::Failure;
 use anyhow::anyhow;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rockfall_forest::Forest;
-use rockfall_lumped::{LumpedModel, RunOptions};
 use rockfall_report::ReportInput;
-use rockfall_results::{ForestEffect, Layout, Results, RunInfo};
-use rockfall_rigid::RigidModel;
-use rockfall_scenario::{Engine, Scenario};
-use serde_json::{Value, json};
+use rockfall_results::{ForestEffect, Results};
+use rockfall_scenario::Scenario;
+use rockfall_sim::{Overrides, RunOptions, SimError, Simulation};
+use serde_json::Value;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 /// Worker threads: the request, or every core.
 pub fn threads(requested: Option<u64>) -> usize {
-    requested.map_or_else(
-        || std::thread::available_parallelism().map_or(1, |n| n.get()),
-        |n| n as usize,
-    )
+    Overrides {
+        threads: requested.map(|n| n as usize),
+        ..Overrides::default()
+    }
+    .threads()
 }
 
-/// Simulates `scenario` with `forest` (none: without trees) on `threads` workers.
+/// An error of the driver as the command line reports it: bad input names its file, or
+/// `input` when the error names none.
+pub fn sim_failure(e: SimError, input: &Path) -> Failure {
+    if !e.is_bad_input() {
+        return Failure::Internal(e.into());
+    }
+    match e.file() {
+        Some(_) => Failure::BadInput(e.into()),
+        None => Failure::BadInput(anyhow!("{}: {e}", input.display())),
+    }
+}
+
+/// Simulates `scenario` with `forest` (none: without trees) on `threads` workers, with a
+/// progress bar labelled `label`.
 pub fn simulate(
     scenario: &Scenario,
     forest: Option<&Forest>,
     threads: usize,
     label: &str,
 ) -> Result<Results, Failure> {
-    let bad_input = |e: &dyn std::fmt::Display, keys: &[&str]| {
-        let source = keys.iter().find_map(|k| scenario.source_of(k));
-        let at = source.map_or(String::new(), |p| format!("{}: ", p.display()));
-        Failure::BadInput(anyhow!("{at}{e}"))
-    };
-    let layout = Arc::new(Layout::of(scenario));
-    let started = Instant::now();
-    let (tally, extra) = match scenario.engine {
-        Engine::Lumped => {
-            let model = LumpedModel::new(scenario, forest)
-                .map_err(|e| bad_input(&e, &["rockdensity", "dem"]))?;
-            let tally = with_progress(model.rocks(), threads, label, |opts| {
-                model.run(layout.clone(), opts)
-            })
-            .map_err(|e| Failure::Internal(e.into()))?;
-            (tally, lumped_parameters(scenario, &model))
-        }
-        Engine::Rigid => {
-            let model = RigidModel::new(scenario, forest)
-                .map_err(|e| bad_input(&e, &["rock.shape", "dem"]))?;
-            let tally = with_progress(model.rocks(), threads, label, |opts| {
-                model.run(layout.clone(), opts)
-            })
-            .map_err(|e| Failure::Internal(e.into()))?;
-            (tally, rigid_parameters(scenario, &model))
-        }
-    };
-    let info = RunInfo {
-        engine: scenario.engine.to_string(),
-        scenario: scenario.name.clone(),
-        seed: scenario.seed,
-        threads,
-        wall_time_s: started.elapsed().as_secs_f64(),
-        extra,
-    };
-    Ok(Results::new(&layout, tally, info))
+    with_progress(rockfall_sim::rocks(scenario), threads, label, |opts| {
+        rockfall_sim::run(scenario, forest, None, opts)
+    })
+    .map_err(|e| match e.is_bad_input() {
+        true => Failure::BadInput(e.into()),
+        false => Failure::Internal(e.into()),
+    })
 }
 
 /// Runs `run` with a progress bar over `rocks` rocks (shown on a terminal only).
@@ -122,76 +105,6 @@ pub fn long_run_warning(rocks: u64, done: u64, elapsed_s: f64) -> Option<String>
             total_s / 3600.0
         )
     })
-}
-
-/// Engine parameters of a lumped run recorded in `summary.json`.
-fn lumped_parameters(
-    scenario: &Scenario,
-    model: &LumpedModel<'_>,
-) -> serde_json::Map<String, Value> {
-    let l = &scenario.lumped;
-    let first = model.sources().first();
-    let v = json!({
-        "moh": l.moh.name(),
-        "tangential_law": l.tangential.name(),
-        "rt_variation": l.rt_variation,
-        "slope_reduction_max_deg": l.slope_reduction_max_deg,
-        "max_lateral_deviation_deg": l.max_lateral_deviation_deg,
-        "stop_velocity_ms": l.stop_velocity_ms,
-        "rn_velocity_scale_ms": l.rn_velocity_scale_ms,
-        "roughness_tilt_factor": l.roughness_tilt_factor,
-        "lift_off_obstacle_factor": l.lift_off_obstacle_factor,
-        "max_time_s": scenario.simulation.max_time_s,
-        "rocks_per_cell": scenario.simulation.rocks_per_cell,
-        "rocks_per_point": scenario.simulation.rocks_per_point,
-        "source_cells": scenario.release.cells.len(),
-        "release_points": scenario.release.points.len(),
-        "stems": model.stems(),
-        "rock_mass_kg": first.map(|s| s.body.mass_kg),
-        "rock_radius_m": first.map(|s| s.body.radius_m),
-        "tree_energy_units": "seed 000 eq. 2 read as joules (DBH in cm)",
-    });
-    object(v)
-}
-
-/// Engine parameters of a rigid run recorded in `summary.json`.
-fn rigid_parameters(scenario: &Scenario, model: &RigidModel<'_>) -> serde_json::Map<String, Value> {
-    let b = model.body();
-    let g = &b.geometry;
-    let c = &scenario.contact;
-    let st = model.settings();
-    let law = |p: &rockfall_scenario::ContactParams| json!({"mu": p.mu, "eps_n": p.eps_n, "eps_t": p.eps_t});
-    let v = json!({
-        "rock_shape": scenario.rock.shape.describe(),
-        "rock_vertices": g.vertices_m.len(),
-        "rock_volume_m3": g.volume_m3,
-        "rock_mass_kg": b.mass_kg,
-        "rock_inertia_kgm2": [b.inertia_kgm2.x, b.inertia_kgm2.y, b.inertia_kgm2.z],
-        "rock_lengths_m": g.lengths_m,
-        "rock_aspect_ratio": g.aspect_ratio(),
-        "rock_class": g.class().name(),
-        "contact_ground": law(&c.ground),
-        "contact_tree": law(&c.tree),
-        "slippage": c.slippage.map(|s| json!({"mu_min": s.mu_min, "mu_max": s.mu_max, "beta_per_s": s.beta_per_s, "kappa_per_m": s.kappa_per_m})),
-        "dt_s": scenario.simulation.dt_s,
-        "max_time_s": scenario.simulation.max_time_s,
-        "rocks_per_cell": scenario.simulation.rocks_per_cell,
-        "rocks_per_point": scenario.simulation.rocks_per_point,
-        "source_cells": scenario.release.cells.len(),
-        "release_points": scenario.release.points.len(),
-        "stems": model.stems(),
-        "solver": {"alpha": st.solver.alpha, "tolerance_ms": st.solver.tolerance_ms, "max_iterations": st.solver.max_iterations, "warm_start": st.solver.warm_start},
-        "stop_speed_ms": st.stop.stop_speed_ms,
-        "rest_time_s": st.stop.rest_time_s,
-    });
-    object(v)
-}
-
-fn object(v: Value) -> serde_json::Map<String, Value> {
-    match v {
-        Value::Object(m) => m,
-        _ => serde_json::Map::new(),
-    }
 }
 
 /// A progress bar over `total` `unit` (on a terminal only), prefixed with `label`.
@@ -334,12 +247,10 @@ pub fn print_summary(title: &str, results: &Results) {
 
 /// `rockfall demo`: vaujany-site2 with and without its forest.
 pub fn demo(out: &Path) -> Result<(), Failure> {
-    let scenario =
-        rockfall_sites::build("vaujany-site2").map_err(|e| Failure::Internal(e.into()))?;
-    let forest = scenario
-        .build_forest()
-        .map_err(|e| Failure::Internal(e.into()))?;
-    let threads = threads(None);
+    let site = rockfall_sites::build("vaujany-site2").map_err(|e| Failure::Internal(e.into()))?;
+    let sim =
+        Simulation::new(site, &Overrides::default()).map_err(|e| Failure::Internal(e.into()))?;
+    let (scenario, forest, threads) = (sim.scenario(), sim.forest(), sim.threads());
     println!(
         "demo: {} — {} rocks from one source cell, {} stems",
         scenario.name,
@@ -347,8 +258,8 @@ pub fn demo(out: &Path) -> Result<(), Failure> {
         forest.len()
     );
     let ascii = scenario.output.ascii_rasters;
-    let with = simulate(&scenario, Some(&forest), threads, "with forest")?;
-    let without = simulate(&scenario, None, threads, "without forest")?;
+    let with = simulate(scenario, Some(forest), threads, "with forest")?;
+    let without = simulate(scenario, None, threads, "without forest")?;
     let effect = ForestEffect::new(&with, &without);
     let effect_files = effect
         .write(out, ascii)
@@ -359,14 +270,14 @@ pub fn demo(out: &Path) -> Result<(), Failure> {
         links: vec![("Without forest".into(), "without_forest/report.html".into())],
         forest_effect: Some(&effect),
         files: effect_files,
-        ..Context::new(&scenario, Some(&forest), input.clone())
+        ..Context::new(scenario, Some(forest), input.clone())
     };
     write(&with, out, ascii, &ctx)?;
     let bare = out.join("without_forest");
     let ctx = Context {
         label: "without forest".into(),
         links: vec![("With forest".into(), "../report.html".into())],
-        ..Context::new(&scenario, None, input)
+        ..Context::new(scenario, None, input)
     };
     write(&without, &bare, ascii, &ctx)?;
     print_summary("with forest:", &with);

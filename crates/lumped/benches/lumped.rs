@@ -4,7 +4,8 @@
 //! `cargo bench -p rockfall-lumped --bench lumped`
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use rockfall_lumped::{LumpedModel, RunOptions};
+use rockfall_engine::{Plan, RunOptions};
+use rockfall_lumped::LumpedModel;
 use rockfall_results::Layout;
 use std::hint::black_box;
 use std::sync::Arc;
@@ -25,13 +26,14 @@ fn site2(c: &mut Criterion) {
     group.sample_size(10);
     for (label, forest) in [("forest", Some(&forest)), ("bare", None)] {
         let model = LumpedModel::new(&scenario, forest).expect("model");
+        let plan = Plan::new(model, &scenario).expect("releases");
         for threads in [1, cores] {
             let opts = RunOptions {
                 threads,
                 progress: None,
             };
             group.bench_function(format!("{label}/{threads}-threads"), |b| {
-                b.iter(|| black_box(model.run(layout.clone(), &opts).expect("run")))
+                b.iter(|| black_box(plan.run_all(&layout, &opts).expect("run")))
             });
         }
     }

@@ -12,10 +12,11 @@
 //! table 1 ([`trees`]); nets catch it or take their energy. docs/lumped-model.md lists every
 //! rule with its source.
 //!
-//! [`LumpedModel::run`] simulates every rock on a pool of threads. Each rock draws from its
-//! own random stream keyed by (seed, source, rock index) and reports to its worker's
-//! [`Tally`]; tallies merge exactly, so the results are bit-identical whatever the number
-//! of threads.
+//! [`LumpedModel`] implements [`rockfall_engine::Engine`]: the driver's
+//! [`rockfall_engine::Plan`] launches each release and simulates every rock on a pool of
+//! threads, each rock from its own random stream keyed by (seed, source, rock index) into its
+//! worker's [`Tally`]; tallies merge exactly, so the results are bit-identical whatever the
+//! number of threads.
 
 pub mod body;
 pub mod contact;
@@ -36,19 +37,14 @@ pub use vec3::V3;
 use body::RockBody;
 use forestry::Trees;
 use ground::Ground;
+use rockfall_engine::{Engine, Origin, Release, Rock};
 use rockfall_forest::Forest;
-pub use rockfall_results::RunOptions;
-use rockfall_results::{Layout, RockNumbering, ScreenSet, Tally, run_rocks};
-use rockfall_rng::Purpose;
+use rockfall_results::{ScreenSet, Tally};
+use rockfall_rng::Rng;
 use rockfall_scenario::{LumpedSettings, Scenario};
-use std::sync::Arc;
 use trajectory::{Launch, Scratch, World, simulate};
 
-/// Standard gravity, m/s².
-pub const G_MS2: f64 = 9.81;
-
-/// Rocks handed to a worker at a time.
-const CHUNK: u64 = 64;
+pub use rockfall_engine::G_MS2;
 
 /// What can stop a lumped run before it starts.
 #[derive(Debug, thiserror::Error)]
@@ -79,40 +75,16 @@ pub enum LumpedError {
         /// y, m.
         y_m: f64,
     },
-    /// The thread pool could not start.
-    #[error("cannot start {0} worker threads")]
-    Threads(usize),
 }
 
-/// One release: a source cell or a point, with its rock and how many rocks it releases.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Source {
-    /// Row-major index of the cell released from.
-    pub cell: usize,
-    /// Centre position at release, m.
-    pub p: V3,
-    /// Initial velocity, m/s.
-    pub v: V3,
-    /// Initial angular velocity, rad/s.
-    pub w: V3,
-    /// The rock.
-    pub body: RockBody,
-    /// Key of the random streams: (0, cell) for source cells, (1, point) for points.
-    pub key: [u64; 2],
-    /// Rocks released.
-    pub rocks: u64,
-}
-
-/// A scenario prepared for the lumped engine.
+/// A scenario prepared for the lumped engine: its terrain arrays, stems, screens and
+/// settings. It runs through the driver's [`rockfall_engine::Plan`].
 pub struct LumpedModel<'f> {
     ground: Ground,
     trees: Option<Trees<'f>>,
     screens: ScreenSet,
-    sources: Vec<Source>,
-    numbering: RockNumbering,
     settings: LumpedSettings,
     max_time_s: f64,
-    seed: u64,
 }
 
 impl<'f> LumpedModel<'f> {
@@ -123,28 +95,13 @@ impl<'f> LumpedModel<'f> {
         let trees = forest
             .filter(|f| !f.is_empty())
             .map(|f| Trees::new(f, &ground));
-        let sources = sources(scenario, &ground)?;
-        let numbering = RockNumbering::new(sources.iter().map(|s| s.rocks));
         Ok(LumpedModel {
             ground,
             trees,
             screens: ScreenSet::new(&scenario.screens),
-            sources,
-            numbering,
             settings: scenario.lumped.clone(),
             max_time_s: scenario.simulation.max_time_s,
-            seed: scenario.seed,
         })
-    }
-
-    /// The releases.
-    pub fn sources(&self) -> &[Source] {
-        &self.sources
-    }
-
-    /// Total number of rocks.
-    pub fn rocks(&self) -> u64 {
-        self.numbering.total()
     }
 
     /// The engine's terrain.
@@ -157,92 +114,81 @@ impl<'f> LumpedModel<'f> {
         self.trees.as_ref().map_or(0, Trees::len)
     }
 
-    /// The launch of rock `id` (global number).
-    fn launch(&self, id: u64) -> (Launch, [u64; 3]) {
-        let (s, k) = self.numbering.locate(id);
-        let src = &self.sources[s];
-        let launch = Launch {
-            rock_id: id,
-            source_cell: src.cell,
-            p: src.p,
-            v: src.v,
-            w: src.w,
-            body: src.body,
-        };
-        (launch, [src.key[0], src.key[1], k])
-    }
-
-    /// Simulates every rock on `opts.threads` workers into one tally.
-    pub fn run(&self, layout: Arc<Layout>, opts: &RunOptions<'_>) -> Result<Tally, LumpedError> {
-        let world = World {
+    fn world(&self) -> World<'_> {
+        World {
             ground: &self.ground,
             trees: self.trees.as_ref(),
             screens: &self.screens,
             settings: &self.settings,
             max_time_s: self.max_time_s,
-        };
-        run_rocks(
-            &layout,
-            self.rocks(),
-            CHUNK,
-            opts,
-            Scratch::default,
-            |id, tally, scratch| {
-                let (launch, key) = self.launch(id);
-                let mut rng = rockfall_rng::stream(self.seed, Purpose::Rock, &key);
-                simulate(&world, &launch, &mut rng, tally, scratch);
-            },
-        )
-        .map_err(|e| LumpedError::Threads(e.0))
+        }
     }
 }
 
-/// The releases of `scenario`: source cells first (ascending), then points.
-fn sources(scenario: &Scenario, ground: &Ground) -> Result<Vec<Source>, LumpedError> {
-    let g = *ground.geometry();
-    let rel = &scenario.release;
-    let mut out = Vec::with_capacity(rel.cells.len() + rel.points.len());
-    for &cell in &rel.cells {
-        let (row, col) = g.row_col(cell);
-        let (x, y) = g.cell_center(row, col);
-        let body = body_at(scenario, row, col)?;
-        let z = ground
-            .height_m(x, y)
-            .ok_or_else(|| LumpedError::BadRelease {
-                row,
-                col,
-                what: "no ground surface at the cell centre (a nodata neighbour?)".into(),
-            })?;
-        out.push(Source {
-            cell,
-            p: V3::new(x, y, z + body.radius_m + rel.cell_height_m.max(0.0)),
-            v: V3::from_array(rel.cell_velocity_ms),
-            w: V3::ZERO,
-            body,
-            key: [0, cell as u64],
-            rocks: scenario.simulation.rocks_per_cell,
-        });
+impl Engine for LumpedModel<'_> {
+    type Launch = Launch;
+    type Scratch = Scratch;
+    type Error = LumpedError;
+
+    /// Lumped rocks are fast: 64 at a time.
+    const CHUNK: u64 = 64;
+
+    fn name(&self) -> &'static str {
+        "lumped"
     }
-    for (k, pt) in rel.points.iter().enumerate() {
-        let off = || LumpedError::PointOffTerrain {
-            x_m: pt.x_m,
-            y_m: pt.y_m,
+
+    /// The rock of the release's cell (its block shape, dimensions and density), its centre
+    /// R + the release gap above the ground at the release position.
+    fn launch(&self, scenario: &Scenario, release: &Release) -> Result<Launch, LumpedError> {
+        let g = *self.ground.geometry();
+        let [x, y] = release.xy_m;
+        let off = || LumpedError::PointOffTerrain { x_m: x, y_m: y };
+        let cell = match release.origin {
+            Origin::Cell(cell) => cell,
+            Origin::Point(_) => self.ground.cell_index(x, y).ok_or_else(off)?,
         };
-        let cell = ground.cell_index(pt.x_m, pt.y_m).ok_or_else(off)?;
         let (row, col) = g.row_col(cell);
         let body = body_at(scenario, row, col)?;
-        let z = ground.height_m(pt.x_m, pt.y_m).ok_or_else(off)?;
-        out.push(Source {
-            cell,
-            p: V3::new(pt.x_m, pt.y_m, z + body.radius_m + pt.height_m.max(0.0)),
-            v: V3::from_array(pt.velocity_ms),
-            w: V3::from_array(pt.angular_velocity_rads),
+        let z = match release.origin {
+            Origin::Cell(_) => {
+                self.ground
+                    .height_m(x, y)
+                    .ok_or_else(|| LumpedError::BadRelease {
+                        row,
+                        col,
+                        what: "no ground surface at the cell centre (a nodata neighbour?)".into(),
+                    })?
+            }
+            Origin::Point(_) => self.ground.height_m(x, y).ok_or_else(off)?,
+        };
+        Ok(Launch {
+            rock_id: 0,
+            source_cell: cell,
+            p: V3::new(x, y, z + body.radius_m + release.height_m),
+            v: V3::from_array(release.velocity_ms),
+            w: V3::from_array(release.angular_velocity_rads),
             body,
-            key: [1, k as u64],
-            rocks: scenario.simulation.rocks_per_point,
-        });
+        })
     }
-    Ok(out)
+
+    fn scratch(&self) -> Scratch {
+        Scratch::default()
+    }
+
+    fn simulate(
+        &self,
+        launch: &Launch,
+        rock: Rock,
+        rng: &mut Rng,
+        tally: &mut Tally,
+        scratch: &mut Scratch,
+    ) {
+        let launch = Launch {
+            rock_id: rock.id,
+            ..*launch
+        };
+        simulate(&self.world(), &launch, rng, tally, scratch);
+    }
 }
 
 /// The rock released from cell (row, col).

@@ -7,8 +7,9 @@
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
 use rand::RngExt;
+use rockfall_engine::{Plan, RunOptions};
 use rockfall_forest::{Forest, Species, Stem};
-use rockfall_lumped::{LumpedModel, RunOptions};
+use rockfall_lumped::LumpedModel;
 use rockfall_raster::{Field, Grid, GridGeometry};
 use rockfall_results::{Layout, Results, RunInfo};
 use rockfall_scenario::{ForestSpec, Nets, Release, ReleasePoint, RockSpec, Scenario, Screen};
@@ -110,7 +111,8 @@ fn run(s: &Scenario, forest: &Forest, threads: usize) -> Results {
         progress: None,
     };
     let start = Instant::now();
-    let tally = model.run(layout.clone(), &opts).unwrap();
+    let plan = Plan::new(model, s).unwrap();
+    let tally = plan.run_all(&layout, &opts).unwrap();
     let info = RunInfo {
         engine: "lumped".into(),
         scenario: s.name.clone(),

@@ -5,8 +5,9 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
+use rockfall_engine::{Plan, RunOptions};
 use rockfall_forest::{Forest, Species, Stem};
-use rockfall_lumped::{LumpedModel, RunOptions};
+use rockfall_lumped::LumpedModel;
 use rockfall_raster::{Grid, GridGeometry};
 use rockfall_results::{Layout, Results, RunInfo};
 use rockfall_scenario::{ForestSpec, Release, RockSpec, Scenario};
@@ -96,7 +97,8 @@ fn run(s: &Scenario, forest: Option<&Forest>) -> Results {
         trajectories: 0,
         ..Layout::of(s)
     });
-    let tally = model.run(layout.clone(), &RunOptions::default()).unwrap();
+    let plan = Plan::new(model, s).unwrap();
+    let tally = plan.run_all(&layout, &RunOptions::default()).unwrap();
     let res = Results::new(&layout, tally, RunInfo::default());
     assert_eq!(res.rocks(), ROCKS);
     res

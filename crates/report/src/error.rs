@@ -18,6 +18,10 @@ pub enum ReportError {
     /// A figure could not be drawn or written (the error names the file).
     #[error(transparent)]
     Plot(#[from] PlotError),
+    /// The run's rasters, summary or CSV files could not be written (the error names the
+    /// file).
+    #[error(transparent)]
+    Results(#[from] rockfall_results::ResultsError),
 }
 
 impl From<(PathBuf, std::io::Error)> for ReportError {

@@ -32,6 +32,7 @@ pub mod maps;
 pub mod plots;
 pub mod profiles;
 pub mod qml;
+mod run;
 mod sections;
 
 use std::path::{Path, PathBuf};
@@ -43,6 +44,7 @@ use rockfall_scenario::Scenario;
 
 pub use error::ReportError;
 pub use figure::Figure;
+pub use run::write_run;
 
 use crate::maps::MapBase;
 use crate::sections::LayerMaps;

@@ -8,12 +8,26 @@
 //! `cargo bench -p rockfall-rigid --bench rigid`
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use rockfall_results::{Layout, RunOptions};
+use rockfall_engine::{Plan, RunOptions};
+use rockfall_results::{Layout, Tally};
 use rockfall_rigid::RigidModel;
+use rockfall_rigid::step::StepStats;
 use std::hint::black_box;
 use std::sync::Arc;
 
 const ROCKS: u64 = 16;
+
+/// Simulates the plan's first [`ROCKS`] rocks one after another on the calling thread: what
+/// their steps did and the wall time, s.
+fn profile(plan: &Plan<RigidModel<'_>>, layout: &Arc<Layout>) -> (StepStats, f64) {
+    let mut tally = Tally::new(layout.clone());
+    let mut scratch = rockfall_engine::Engine::scratch(plan.engine());
+    let started = std::time::Instant::now();
+    for id in 0..ROCKS.min(plan.rocks()) {
+        plan.simulate(id, &mut tally, &mut scratch);
+    }
+    (scratch.stats, started.elapsed().as_secs_f64())
+}
 
 fn forest_slope(c: &mut Criterion) {
     let mut scenario = rockfall_sites::build("forest-slope-40").expect("built-in site");
@@ -29,7 +43,8 @@ fn forest_slope(c: &mut Criterion) {
     group.sample_size(10);
     for (label, forest) in [("forest", Some(&forest)), ("bare", None)] {
         let model = RigidModel::new(&scenario, forest).expect("model");
-        let (st, wall_s) = model.profile(layout.clone(), ROCKS);
+        let plan = Plan::new(model, &scenario).expect("releases");
+        let (st, wall_s) = profile(&plan, &layout);
         let per = |n: u64| n as f64 / st.steps.max(1) as f64;
         eprintln!(
             "{label}: {ROCKS} rocks, {} steps ({:.0} per rock) in {wall_s:.2} s on one thread: \
@@ -51,7 +66,7 @@ fn forest_slope(c: &mut Criterion) {
                 progress: None,
             };
             group.bench_function(format!("{label}/{threads}-threads"), |b| {
-                b.iter(|| black_box(model.run(layout.clone(), &opts).expect("run")))
+                b.iter(|| black_box(plan.run_all(&layout, &opts).expect("run")))
             });
         }
     }

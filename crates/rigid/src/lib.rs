@@ -21,22 +21,18 @@ pub mod step;
 
 use ground::{Ground, Under};
 use rock::{Launch, StopRule, World, simulate};
+use rockfall_engine::{Engine, Origin, Release, Rock};
 use rockfall_forest::Forest;
-use rockfall_results::{Layout, RockNumbering, RunOptions, ScreenSet, Tally, run_rocks};
-use rockfall_rng::Purpose;
+use rockfall_results::{ScreenSet, Tally};
+use rockfall_rng::Rng;
 use rockfall_scenario::{RigidParams, Scenario};
 use rockfall_terrain::Lattice;
 use shape::{RockBody, ShapeError, body_from_spec};
 use solver::SolverSettings;
-use std::sync::Arc;
 use stems::Stand;
-use step::{StepParams, StepScratch, StepStats};
+use step::{StepParams, StepScratch};
 
-/// Standard gravity, m/s².
-pub const G_MS2: f64 = 9.81;
-
-/// Rocks handed to a worker at a time (rigid rocks are slow: small chunks balance the load).
-const CHUNK: u64 = 1;
+pub use rockfall_engine::G_MS2;
 
 /// What can stop a rigid run before it starts.
 #[derive(Debug, thiserror::Error)]
@@ -62,9 +58,6 @@ pub enum RigidError {
         /// What is wrong.
         what: String,
     },
-    /// The thread pool could not start.
-    #[error("cannot start {0} worker threads")]
-    Threads(usize),
 }
 
 /// Engine settings beyond the scenario's contact laws and time step.
@@ -101,31 +94,17 @@ impl RigidSettings {
     }
 }
 
-/// One release: a point or a source cell.
-#[derive(Debug, Clone, Copy)]
-pub struct Source {
-    /// Row-major index of the cell released from.
-    pub cell: usize,
-    /// The launch of its rocks (`rock_id` is set per rock).
-    pub launch: Launch,
-    /// Key of the random streams: (0, cell) for source cells, (1, point) for points.
-    pub key: [u64; 2],
-    /// Rocks released.
-    pub rocks: u64,
-}
-
-/// A scenario prepared for the rigid engine.
+/// A scenario prepared for the rigid engine: its ground, rock, stems, screens and settings.
+/// It runs through the driver's [`rockfall_engine::Plan`].
 pub struct RigidModel<'f> {
     ground: Ground,
-    stems: Option<&'f Forest>,
+    stand: Option<Stand<'f>>,
+    stems: usize,
     body: RockBody,
     screens: ScreenSet,
-    sources: Vec<Source>,
-    numbering: RockNumbering,
     scenario_dt_s: f64,
     max_time_s: f64,
     record_interval_s: f64,
-    seed: u64,
     contact: rockfall_scenario::ContactSettings,
     settings: RigidSettings,
 }
@@ -135,19 +114,22 @@ impl<'f> RigidModel<'f> {
     pub fn new(scenario: &Scenario, forest: Option<&'f Forest>) -> Result<Self, RigidError> {
         let ground = Ground::new(Lattice::new(&scenario.terrain.dem));
         let body = body_from_spec(&scenario.rock)?;
-        let sources = sources(scenario, &ground)?;
-        let numbering = RockNumbering::new(sources.iter().map(|s| s.rocks));
+        let forest = forest.filter(|f| !f.is_empty());
+        let stand = forest.map(|f| {
+            let lat = ground.lattice();
+            Stand::new(f.stems(), f.index(), |x, y| {
+                lat.height_m(x, y).unwrap_or(f64::NAN)
+            })
+        });
         Ok(RigidModel {
             ground,
-            stems: forest.filter(|f| !f.is_empty()),
+            stand,
+            stems: forest.map_or(0, Forest::len),
             body,
             screens: ScreenSet::new(&scenario.screens),
-            sources,
-            numbering,
             scenario_dt_s: scenario.simulation.dt_s,
             max_time_s: scenario.simulation.max_time_s,
             record_interval_s: scenario.output.trajectory_interval_s,
-            seed: scenario.seed,
             contact: scenario.contact.clone(),
             settings: RigidSettings::from_params(&scenario.rigid),
         })
@@ -164,19 +146,9 @@ impl<'f> RigidModel<'f> {
         &self.body
     }
 
-    /// The releases.
-    pub fn sources(&self) -> &[Source] {
-        &self.sources
-    }
-
-    /// Total number of rocks.
-    pub fn rocks(&self) -> u64 {
-        self.numbering.total()
-    }
-
     /// Stems in the run.
     pub fn stems(&self) -> usize {
-        self.stems.map_or(0, Forest::len)
+        self.stems
     }
 
     /// The engine's settings.
@@ -199,42 +171,10 @@ impl<'f> RigidModel<'f> {
         }
     }
 
-    /// The launch of rock `id` (global number) and its random-stream key.
-    fn launch(&self, id: u64) -> (Launch, [u64; 3]) {
-        let (s, k) = self.numbering.locate(id);
-        let src = &self.sources[s];
-        let mut launch = src.launch;
-        launch.rock_id = id;
-        (launch, [src.key[0], src.key[1], k])
-    }
-
-    /// Simulates the first `rocks` rocks one after another on the calling thread and returns
-    /// what their steps did, with the wall time, s (for benchmarks and profiles).
-    pub fn profile(&self, layout: Arc<Layout>, rocks: u64) -> (StepStats, f64) {
-        let stand = self.stand();
-        let world = self.world(stand.as_ref());
-        let mut tally = Tally::new(layout);
-        let mut scratch = StepScratch::default();
-        let started = std::time::Instant::now();
-        for id in 0..rocks.min(self.rocks()) {
-            self.simulate(&world, id, &mut tally, &mut scratch);
-        }
-        (scratch.stats, started.elapsed().as_secs_f64())
-    }
-
-    fn stand(&self) -> Option<Stand<'f>> {
-        self.stems.map(|f| {
-            let lat = self.ground.lattice();
-            Stand::new(f.stems(), f.index(), |x, y| {
-                lat.height_m(x, y).unwrap_or(f64::NAN)
-            })
-        })
-    }
-
-    fn world<'w>(&'w self, stand: Option<&'w Stand<'w>>) -> World<'w> {
+    fn world(&self) -> World<'_> {
         World {
             ground: &self.ground,
-            stand,
+            stand: self.stand.as_ref(),
             screens: &self.screens,
             step: self.step_params(),
             stop: self.settings.stop,
@@ -242,94 +182,76 @@ impl<'f> RigidModel<'f> {
             record_interval_s: self.record_interval_s,
         }
     }
-
-    fn simulate(&self, world: &World<'_>, id: u64, tally: &mut Tally, scratch: &mut StepScratch) {
-        let (launch, key) = self.launch(id);
-        let mut rng = rockfall_rng::stream(self.seed, Purpose::Rock, &key);
-        simulate(world, &self.body, &launch, &mut rng, tally, scratch);
-    }
-
-    /// Simulates every rock on `opts.threads` workers into one tally.
-    pub fn run(&self, layout: Arc<Layout>, opts: &RunOptions<'_>) -> Result<Tally, RigidError> {
-        let stand = self.stand();
-        let world = self.world(stand.as_ref());
-        run_rocks(
-            &layout,
-            self.rocks(),
-            CHUNK,
-            opts,
-            StepScratch::default,
-            |id, tally, scratch| self.simulate(&world, id, tally, scratch),
-        )
-        .map_err(|e| RigidError::Threads(e.0))
-    }
 }
 
-/// The releases of `scenario`: source cells first (ascending), then points.
-fn sources(scenario: &Scenario, ground: &Ground) -> Result<Vec<Source>, RigidError> {
-    let lat = ground.lattice();
-    let g = *lat.geometry();
-    let rel = &scenario.release;
-    let mut out = Vec::with_capacity(rel.cells.len() + rel.points.len());
-    let place = |x: f64, y: f64| -> Result<usize, RigidError> {
-        match ground.under(x, y) {
-            Under::Surface(_) => lat
-                .cell_index(x, y)
-                .ok_or(RigidError::OffTerrain { x_m: x, y_m: y }),
-            Under::Off => Err(RigidError::OffTerrain { x_m: x, y_m: y }),
-        }
-    };
-    for &cell in &rel.cells {
-        let (row, col) = g.row_col(cell);
-        let (x, y) = g.cell_center(row, col);
-        place(x, y)?;
-        out.push(Source {
-            cell,
-            launch: Launch {
-                rock_id: 0,
-                source_cell: cell,
-                xy_m: [x, y],
-                height_m: rel.cell_height_m.max(0.0),
-                velocity_ms: V3::from_array(rel.cell_velocity_ms),
-                angular_velocity_rads: V3::ZERO,
-                orientation: None,
-            },
-            key: [0, cell as u64],
-            rocks: scenario.simulation.rocks_per_cell,
-        });
+impl Engine for RigidModel<'_> {
+    type Launch = Launch;
+    type Scratch = StepScratch;
+    type Error = RigidError;
+
+    /// Rigid rocks are slow: one at a time balances the load.
+    const CHUNK: u64 = 1;
+
+    fn name(&self) -> &'static str {
+        "rigid"
     }
-    for (k, pt) in rel.points.iter().enumerate() {
-        let cell = place(pt.x_m, pt.y_m)?;
-        let orientation = match pt.orientation_wxyz {
+
+    /// The release position on the ground (refused off the terrain) and its orientation, a
+    /// finite non-zero quaternion normalised, or random per rock.
+    fn launch(&self, _scenario: &Scenario, release: &Release) -> Result<Launch, RigidError> {
+        let [x, y] = release.xy_m;
+        let off = RigidError::OffTerrain { x_m: x, y_m: y };
+        let lat = self.ground.lattice();
+        let cell = match self.ground.under(x, y) {
+            Under::Surface(_) => lat.cell_index(x, y).ok_or(off)?,
+            Under::Off => return Err(off),
+        };
+        let orientation = match release.orientation_wxyz {
             None => None,
-            Some([w, x, y, z]) => {
-                let q = Quat::from_xyzw(x, y, z, w);
+            Some([w, qx, qy, qz]) => {
+                let q = Quat::from_xyzw(qx, qy, qz, w);
                 if !(q.length() > 0.0 && q.is_finite()) {
                     return Err(RigidError::BadRelease {
-                        x_m: pt.x_m,
-                        y_m: pt.y_m,
+                        x_m: x,
+                        y_m: y,
                         what: "orientation_wxyz must be a finite, non-zero quaternion".into(),
                     });
                 }
                 Some(q.normalize())
             }
         };
-        out.push(Source {
-            cell,
-            launch: Launch {
-                rock_id: 0,
-                source_cell: cell,
-                xy_m: [pt.x_m, pt.y_m],
-                height_m: pt.height_m.max(0.0),
-                velocity_ms: V3::from_array(pt.velocity_ms),
-                angular_velocity_rads: V3::from_array(pt.angular_velocity_rads),
-                orientation,
+        Ok(Launch {
+            rock_id: 0,
+            source_cell: match release.origin {
+                Origin::Cell(c) => c,
+                Origin::Point(_) => cell,
             },
-            key: [1, k as u64],
-            rocks: scenario.simulation.rocks_per_point,
-        });
+            xy_m: [x, y],
+            height_m: release.height_m,
+            velocity_ms: V3::from_array(release.velocity_ms),
+            angular_velocity_rads: V3::from_array(release.angular_velocity_rads),
+            orientation,
+        })
     }
-    Ok(out)
+
+    fn scratch(&self) -> StepScratch {
+        StepScratch::default()
+    }
+
+    fn simulate(
+        &self,
+        launch: &Launch,
+        rock: Rock,
+        rng: &mut Rng,
+        tally: &mut Tally,
+        scratch: &mut StepScratch,
+    ) {
+        let launch = Launch {
+            rock_id: rock.id,
+            ..*launch
+        };
+        simulate(&self.world(), &self.body, &launch, rng, tally, scratch);
+    }
 }
 
 impl Default for RigidSettings {

@@ -7,9 +7,10 @@
 
 mod common;
 
+use rockfall_engine::{Plan, RunOptions};
 use rockfall_forest::Forest;
 use rockfall_raster::Field;
-use rockfall_results::{Layout, Results, RunInfo, RunOptions};
+use rockfall_results::{Layout, Results, RunInfo};
 use rockfall_rigid::{RigidError, RigidModel};
 use rockfall_scenario::{BlockShape, Engine, Release, ReleasePoint, RockShape, RockSpec, Scenario};
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
@@ -21,9 +22,10 @@ fn run(scenario: &Scenario, forest: Option<&Forest>, threads: usize) -> Results 
     let model = RigidModel::new(scenario, forest).unwrap();
     let layout = Arc::new(Layout::of(scenario));
     let start = Instant::now();
-    let tally = model
-        .run(
-            layout.clone(),
+    let tally = Plan::new(model, scenario)
+        .unwrap()
+        .run_all(
+            &layout,
             &RunOptions {
                 threads,
                 progress: None,
@@ -257,21 +259,20 @@ fn release_state_is_as_given() {
     }
 }
 
-/// A release point off the DEM, or with an unusable orientation, is refused up front.
+/// A release point off the DEM, or with an unusable orientation, is refused when the plan is
+/// made, before any rock runs.
 #[test]
 fn unusable_releases_are_errors() {
     let rock = RockSpec::named("cubic1.2", None, 2700.0).unwrap();
     let off = flat_scenario(rock.clone(), ReleasePoint::at_rest(100.0, 0.2, 0.5));
-    assert!(matches!(
-        RigidModel::new(&off, None),
-        Err(RigidError::OffTerrain { .. })
-    ));
+    let plan = |s: &Scenario| RigidModel::new(s, None).and_then(|m| Plan::new(m, s).map(|_| ()));
+    assert!(matches!(plan(&off), Err(RigidError::OffTerrain { .. })));
     let bad = ReleasePoint {
         orientation_wxyz: Some([0.0; 4]),
         ..ReleasePoint::at_rest(0.3, 0.2, 0.5)
     };
     assert!(matches!(
-        RigidModel::new(&flat_scenario(rock, bad), None),
+        plan(&flat_scenario(rock, bad)),
         Err(RigidError::BadRelease { .. })
     ));
 }

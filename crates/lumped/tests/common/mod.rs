@@ -2,8 +2,9 @@
 
 #![allow(dead_code)] // each test file uses part of it
 
+use rockfall_engine::{Plan, RunOptions};
 use rockfall_forest::Forest;
-use rockfall_lumped::{LumpedModel, RunOptions};
+use rockfall_lumped::LumpedModel;
 use rockfall_raster::{Field, Grid, GridGeometry};
 use rockfall_results::{Layout, Results, RunInfo};
 use rockfall_scenario::Scenario;
@@ -42,7 +43,8 @@ pub fn run(scenario: &Scenario, forest: Option<&Forest>, layout: Layout) -> Resu
         threads: 2,
         progress: None,
     };
-    let tally = model.run(layout.clone(), &opts).unwrap();
+    let plan = Plan::new(model, scenario).unwrap();
+    let tally = plan.run_all(&layout, &opts).unwrap();
     Results::new(&layout, tally, RunInfo::default())
 }
 

@@ -1,0 +1,84 @@
+//! The seam between a scenario and an engine.
+//!
+//! Both engines (seed 000's lumped mass, seed 001's rigid body) implement [`Engine`]: they are
+//! prepared from a `Scenario` and a `Forest` by their own constructors, turn each of the
+//! scenario's [`Release`]s into a launch of their own ([`Engine::launch`]) and simulate one
+//! rock at a time into a [`Tally`] ([`Engine::simulate`]). Everything around that is written
+//! once, here:
+//!
+//! - the release list ([`Releases::of`]): source cells first (ascending), then points;
+//! - the rock numbering: release k owns consecutive global rock numbers ([`RockNumbering`]);
+//! - the random streams: rock k of a source cell c draws from the stream keyed
+//!   `(seed, Purpose::Rock, [0, c, k])`, of release point p from `[1, p, k]`, so a rock's
+//!   draws depend on the rock alone;
+//! - the worker pool ([`Plan::run`]): rocks handed out in chunks from an atomic counter, one
+//!   tally per worker, merged exactly;
+//! - rock sets ([`RockSet`]): a run of any subset of the rocks, so that disjoint subsets run
+//!   apart (partitions, machines) merge into exactly the tally of their union.
+//!
+//! Because a rock's stream is keyed by the rock and tallies merge by integer arithmetic,
+//! results are bit-identical whatever the thread count and whatever the split.
+
+mod plan;
+mod pool;
+mod release;
+mod rocks;
+
+pub use plan::Plan;
+pub use pool::{PoolError, RunOptions};
+pub use release::{Origin, Release, Releases, RockNumbering};
+pub use rocks::RockSet;
+
+use rockfall_results::Tally;
+use rockfall_rng::Rng;
+use rockfall_scenario::Scenario;
+
+/// Standard gravity, m/s² (both engines).
+pub const G_MS2: f64 = 9.81;
+
+/// One rock of a run, as the driver hands it to an engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rock {
+    /// Global rock number, 0-based, in release order.
+    pub id: u64,
+    /// Index of the rock within its release.
+    pub index: u64,
+}
+
+/// A rockfall engine: what differs between the lumped and the rigid engine.
+///
+/// An engine is prepared from a scenario and a forest by its own constructor; the driver
+/// ([`Plan`]) then asks it for one launch per release and for each rock's simulation.
+pub trait Engine: Sync {
+    /// A release made ready for this engine (where and how its rocks start).
+    type Launch: Send + Sync;
+    /// Per-worker scratch space, made once per worker.
+    type Scratch;
+    /// Why a release cannot be launched.
+    type Error: std::error::Error + Send + Sync + 'static;
+
+    /// Rocks handed to a worker at a time: large for fast rocks, 1 for slow ones so that the
+    /// load balances.
+    const CHUNK: u64;
+
+    /// The engine's name, as in scenario files: `lumped` or `rigid`.
+    fn name(&self) -> &'static str;
+
+    /// The launch of `release`'s rocks in `scenario` (the one the engine was prepared from),
+    /// or why it cannot be launched (off the terrain, no rock there).
+    fn launch(&self, scenario: &Scenario, release: &Release) -> Result<Self::Launch, Self::Error>;
+
+    /// Fresh scratch space for one worker.
+    fn scratch(&self) -> Self::Scratch;
+
+    /// Simulates `rock`, launched as `launch`, drawing from `rng` (the rock's own stream), and
+    /// reports it to `tally`.
+    fn simulate(
+        &self,
+        launch: &Self::Launch,
+        rock: Rock,
+        rng: &mut Rng,
+        tally: &mut Tally,
+        scratch: &mut Self::Scratch,
+    );
+}

@@ -1,0 +1,183 @@
+//! One release list, rock numbering and random-stream key scheme for both engines.
+
+use rockfall_scenario::Scenario;
+use std::ops::Range;
+
+/// Where a release comes from in the scenario.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Origin {
+    /// A source cell (row-major index on the DEM's grid).
+    Cell(usize),
+    /// The scenario's release point with this index.
+    Point(usize),
+}
+
+/// One release: a source cell or a point, how its rocks start and how many there are.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Release {
+    /// The source cell or release point.
+    pub origin: Origin,
+    /// Release position in plan (x, y), m: the cell centre or the point.
+    pub xy_m: [f64; 2],
+    /// Smallest vertical gap between the rock and the terrain, m (≥ 0).
+    pub height_m: f64,
+    /// Initial velocity (x, y, z), m/s.
+    pub velocity_ms: [f64; 3],
+    /// Initial angular velocity (x, y, z) in the world frame, rad/s.
+    pub angular_velocity_rads: [f64; 3],
+    /// Initial orientation as a quaternion (w, x, y, z); `None` → random per rock.
+    pub orientation_wxyz: Option<[f64; 4]>,
+    /// Rocks released.
+    pub rocks: u64,
+}
+
+impl Release {
+    /// The key of this release's random streams: (0, cell) for a source cell, (1, point) for
+    /// a release point; rock k draws from the stream keyed by the key and k.
+    pub fn key(&self) -> [u64; 2] {
+        match self.origin {
+            Origin::Cell(cell) => [0, cell as u64],
+            Origin::Point(k) => [1, k as u64],
+        }
+    }
+}
+
+/// The releases of a scenario with the global numbering of their rocks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Releases {
+    list: Vec<Release>,
+    numbering: RockNumbering,
+}
+
+impl Releases {
+    /// The releases of `scenario` (already validated): its source cells first, ascending, each
+    /// with `rocks_per_cell` rocks released `cell_height_m` above the cell centre, then its
+    /// points in file order with `rocks_per_point` rocks each. Negative heights count as 0.
+    pub fn of(scenario: &Scenario) -> Releases {
+        let g = *scenario.terrain.dem.geometry();
+        let rel = &scenario.release;
+        let sim = &scenario.simulation;
+        let cells = rel.cells.iter().map(|&cell| {
+            let (row, col) = g.row_col(cell);
+            let (x, y) = g.cell_center(row, col);
+            Release {
+                origin: Origin::Cell(cell),
+                xy_m: [x, y],
+                height_m: rel.cell_height_m.max(0.0),
+                velocity_ms: rel.cell_velocity_ms,
+                angular_velocity_rads: [0.0; 3],
+                orientation_wxyz: None,
+                rocks: sim.rocks_per_cell,
+            }
+        });
+        let points = rel.points.iter().enumerate().map(|(k, pt)| Release {
+            origin: Origin::Point(k),
+            xy_m: [pt.x_m, pt.y_m],
+            height_m: pt.height_m.max(0.0),
+            velocity_ms: pt.velocity_ms,
+            angular_velocity_rads: pt.angular_velocity_rads,
+            orientation_wxyz: pt.orientation_wxyz,
+            rocks: sim.rocks_per_point,
+        });
+        Releases::new(cells.chain(points).collect())
+    }
+
+    /// Releases in the given order.
+    pub fn new(list: Vec<Release>) -> Releases {
+        let numbering = RockNumbering::new(list.iter().map(|r| r.rocks));
+        Releases { list, numbering }
+    }
+
+    /// The releases, in numbering order.
+    pub fn list(&self) -> &[Release] {
+        &self.list
+    }
+
+    /// Rocks over all releases.
+    pub fn rocks(&self) -> u64 {
+        self.numbering.total()
+    }
+
+    /// The numbering of the rocks.
+    pub fn numbering(&self) -> &RockNumbering {
+        &self.numbering
+    }
+
+    /// The global numbers of release `k`'s rocks.
+    pub fn rocks_of(&self, k: usize) -> Range<u64> {
+        self.numbering.range(k)
+    }
+}
+
+/// Global rock numbers over a list of releases: release k owns the consecutive numbers
+/// `first[k] .. first[k] + count[k]`, in release order.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct RockNumbering {
+    first: Vec<u64>,
+    total: u64,
+}
+
+impl RockNumbering {
+    /// Numbers the rocks of releases with `counts` rocks each.
+    pub fn new(counts: impl IntoIterator<Item = u64>) -> RockNumbering {
+        let mut total = 0u64;
+        let first = counts
+            .into_iter()
+            .map(|n| {
+                let f = total;
+                total = total.saturating_add(n);
+                f
+            })
+            .collect();
+        RockNumbering { first, total }
+    }
+
+    /// Number of rocks over all releases.
+    pub fn total(&self) -> u64 {
+        self.total
+    }
+
+    /// The release of global rock `id` (< [`RockNumbering::total`]) and the rock's index
+    /// within that release.
+    pub fn locate(&self, id: u64) -> (usize, u64) {
+        let k = self.first.partition_point(|&f| f <= id).saturating_sub(1);
+        (k, id - self.first.get(k).copied().unwrap_or(0))
+    }
+
+    /// The global numbers of release `k`'s rocks (empty for an unknown release).
+    pub fn range(&self, k: usize) -> Range<u64> {
+        let start = self.first.get(k).copied().unwrap_or(self.total);
+        let end = self.first.get(k + 1).copied().unwrap_or(self.total);
+        start..end.max(start)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rocks_are_numbered_release_after_release_skipping_empty_ones() {
+        let n = RockNumbering::new([3, 0, 2]);
+        assert_eq!(n.total(), 5);
+        let located: Vec<_> = (0..5).map(|id| n.locate(id)).collect();
+        assert_eq!(located, [(0, 0), (0, 1), (0, 2), (2, 0), (2, 1)]);
+        assert_eq!([n.range(0), n.range(1), n.range(2)], [0..3, 3..3, 3..5]);
+        assert_eq!(n.range(7), 5..5);
+    }
+
+    #[test]
+    fn cells_and_points_have_keys_of_their_own() {
+        let r = |origin| Release {
+            origin,
+            xy_m: [0.0; 2],
+            height_m: 0.0,
+            velocity_ms: [0.0; 3],
+            angular_velocity_rads: [0.0; 3],
+            orientation_wxyz: None,
+            rocks: 1,
+        };
+        assert_eq!(r(Origin::Cell(7)).key(), [0, 7]);
+        assert_eq!(r(Origin::Point(7)).key(), [1, 7]);
+    }
+}

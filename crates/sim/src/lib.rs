@@ -1,0 +1,295 @@
+//! The simulation driver: one way from a scenario to [`Results`] for both engines.
+//!
+//! [`Simulation::new`] applies every [`Overrides`] (seed, rocks, engine, threads) to the
+//! scenario, validates it again and only then builds the forest, which a stand map expands
+//! into stems from the seed: `--seed N` and `seed = N` give the same run. [`Simulation::run`]
+//! prepares the scenario's engine ([`rockfall_lumped::LumpedModel`] or
+//! [`rockfall_rigid::RigidModel`], both [`rockfall_engine::Engine`]s), makes the plan of its
+//! releases and runs all its rocks, or any [`RockSet`] of them, into a tally; [`Results`]
+//! carry the engine parameters ([`parameters`]). Tallies of disjoint rock sets merge
+//! exactly into the tally of their union ([`Simulation::tally`]).
+//!
+//! Printing, progress bars and files are the caller's: the driver reads and writes nothing.
+
+pub mod parameters;
+mod rock;
+
+pub use rock::RigidRock;
+
+use rockfall_engine::{Engine, Plan, PoolError, RockSet};
+use rockfall_forest::Forest;
+use rockfall_lumped::LumpedModel;
+use rockfall_results::{Layout, Results, RunInfo, Tally};
+use rockfall_rigid::RigidModel;
+use rockfall_scenario::{Engine as EngineKind, Scenario, ScenarioError};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+pub use rockfall_engine::RunOptions;
+
+/// What can stop a simulation. Each input error names the file its parameter came from,
+/// when the scenario was read from files ([`SimError::file`]).
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// The scenario, once overridden, is not valid.
+    #[error("{}{source}", at(file))]
+    Scenario {
+        /// The file of the parameter at fault.
+        file: Option<PathBuf>,
+        /// What is wrong.
+        source: ScenarioError,
+    },
+    /// The forest cannot be built from the scenario (a stand map or tree list).
+    #[error("{}{source}", at(file))]
+    Forest {
+        /// The stand map or tree list.
+        file: Option<PathBuf>,
+        /// What is wrong.
+        source: ScenarioError,
+    },
+    /// The engine cannot start: a release off the terrain, no rock at a source cell, an
+    /// unusable rock shape.
+    #[error("{}{message}", at(file))]
+    Engine {
+        /// The file of the parameter most likely at fault.
+        file: Option<PathBuf>,
+        /// What is wrong.
+        message: String,
+    },
+    /// The worker pool cannot start.
+    #[error(transparent)]
+    Pool(#[from] PoolError),
+}
+
+fn at(file: &Option<PathBuf>) -> String {
+    file.as_ref()
+        .map_or(String::new(), |p| format!("{}: ", p.display()))
+}
+
+impl SimError {
+    /// True when the error is the input's fault (exit 2), false for an internal failure.
+    pub fn is_bad_input(&self) -> bool {
+        !matches!(self, SimError::Pool(_))
+    }
+
+    /// The input file named by the error, if any.
+    pub fn file(&self) -> Option<&std::path::Path> {
+        match self {
+            SimError::Scenario { file, .. }
+            | SimError::Forest { file, .. }
+            | SimError::Engine { file, .. } => file.as_deref(),
+            SimError::Pool(_) => None,
+        }
+    }
+
+    fn engine(scenario: &Scenario, e: &dyn std::fmt::Display, keys: &[&str]) -> SimError {
+        SimError::Engine {
+            file: source_of(scenario, keys),
+            message: e.to_string(),
+        }
+    }
+}
+
+/// The file the first of `keys` with one came from.
+fn source_of(scenario: &Scenario, keys: &[&str]) -> Option<PathBuf> {
+    keys.iter()
+        .find_map(|k| scenario.source_of(k))
+        .map(Into::into)
+}
+
+/// What a caller may override in a scenario, applied before anything random happens.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Overrides {
+    /// Master seed.
+    pub seed: Option<u64>,
+    /// Rocks per source cell.
+    pub rocks_per_cell: Option<u64>,
+    /// Rocks per release point.
+    pub rocks_per_point: Option<u64>,
+    /// Engine.
+    pub engine: Option<EngineKind>,
+    /// Worker threads (0 or none: every core).
+    pub threads: Option<usize>,
+}
+
+impl Overrides {
+    /// Applies the scenario overrides (all but the threads) to `scenario`.
+    pub fn apply(&self, scenario: &mut Scenario) {
+        if let Some(s) = self.seed {
+            scenario.seed = s;
+        }
+        if let Some(n) = self.rocks_per_cell {
+            scenario.simulation.rocks_per_cell = n;
+        }
+        if let Some(n) = self.rocks_per_point {
+            scenario.simulation.rocks_per_point = n;
+        }
+        if let Some(e) = self.engine {
+            scenario.engine = e;
+        }
+    }
+
+    /// The worker threads: the override, or every core.
+    pub fn threads(&self) -> usize {
+        match self.threads {
+            Some(n) if n > 0 => n,
+            _ => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        }
+    }
+}
+
+/// A scenario with its overrides applied and its forest built: ready to run.
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    scenario: Scenario,
+    forest: Forest,
+    threads: usize,
+}
+
+impl Simulation {
+    /// Applies `overrides` to `scenario`, validates it and builds its forest (from the
+    /// overridden seed).
+    pub fn new(mut scenario: Scenario, overrides: &Overrides) -> Result<Self, SimError> {
+        overrides.apply(&mut scenario);
+        scenario.validate().map_err(|e| SimError::Scenario {
+            file: e.parameter().and_then(|k| source_of(&scenario, &[k])),
+            source: e,
+        })?;
+        let forest = scenario.build_forest().map_err(|e| SimError::Forest {
+            file: source_of(&scenario, &["forest.trees", "nrtrees"]),
+            source: e,
+        })?;
+        Ok(Simulation {
+            scenario,
+            forest,
+            threads: overrides.threads(),
+        })
+    }
+
+    /// The scenario as simulated.
+    pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+
+    /// The forest (empty when the scenario has none).
+    pub fn forest(&self) -> &Forest {
+        &self.forest
+    }
+
+    /// The forest, or none when it has no stem.
+    pub fn stems(&self) -> Option<&Forest> {
+        (!self.forest.is_empty()).then_some(&self.forest)
+    }
+
+    /// The scenario and its forest.
+    pub fn into_parts(self) -> (Scenario, Forest) {
+        (self.scenario, self.forest)
+    }
+
+    /// Worker threads.
+    pub fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// Runs every rock, with the forest (`with_forest`) or without it, reporting progress
+    /// through `progress`.
+    pub fn run(
+        &self,
+        with_forest: bool,
+        progress: Option<&(dyn Fn(u64) + Sync)>,
+    ) -> Result<Results, SimError> {
+        let forest = self.stems().filter(|_| with_forest);
+        let opts = RunOptions {
+            threads: self.threads,
+            progress,
+        };
+        run(&self.scenario, forest, None, &opts)
+    }
+
+    /// The tally of the rocks of `rocks` (with the forest), on `layout`.
+    pub fn tally(&self, layout: &Arc<Layout>, rocks: &RockSet) -> Result<Tally, SimError> {
+        let opts = RunOptions {
+            threads: self.threads,
+            progress: None,
+        };
+        Ok(tally(&self.scenario, self.stems(), layout, Some(rocks), &opts)?.0)
+    }
+}
+
+/// Simulates `scenario` with `overrides` applied first: every rock, with its forest.
+pub fn simulate(scenario: Scenario, overrides: &Overrides) -> Result<Results, SimError> {
+    Simulation::new(scenario, overrides)?.run(true, None)
+}
+
+/// Runs `scenario` (validated, overrides applied) with `forest` (none: without trees): the
+/// rocks of `rocks` (none: every rock) on `opts.threads` workers, into [`Results`] with the
+/// run's [`RunInfo`] and engine parameters.
+pub fn run(
+    scenario: &Scenario,
+    forest: Option<&Forest>,
+    rocks: Option<&RockSet>,
+    opts: &RunOptions<'_>,
+) -> Result<Results, SimError> {
+    let layout = Arc::new(Layout::of(scenario));
+    let started = Instant::now();
+    let (tally, parameters) = tally(scenario, forest, &layout, rocks, opts)?;
+    let info = RunInfo {
+        engine: scenario.engine.to_string(),
+        scenario: scenario.name.clone(),
+        seed: scenario.seed,
+        threads: opts.threads,
+        wall_time_s: started.elapsed().as_secs_f64(),
+        extra: parameters,
+    };
+    Ok(Results::new(&layout, tally, info))
+}
+
+/// The engine parameters written into `summary.json`.
+type Parameters = serde_json::Map<String, serde_json::Value>;
+
+/// The tally of `rocks` (none: all) of `scenario` with `forest` on `layout`, and the engine
+/// parameters of the run.
+fn tally(
+    scenario: &Scenario,
+    forest: Option<&Forest>,
+    layout: &Arc<Layout>,
+    rocks: Option<&RockSet>,
+    opts: &RunOptions<'_>,
+) -> Result<(Tally, Parameters), SimError> {
+    match scenario.engine {
+        EngineKind::Lumped => {
+            let bad = |e: rockfall_lumped::LumpedError| {
+                SimError::engine(scenario, &e, &["rockdensity", "dem"])
+            };
+            let model = LumpedModel::new(scenario, forest).map_err(bad)?;
+            let plan = Plan::new(model, scenario).map_err(bad)?;
+            let tally = run_plan(&plan, layout, rocks, opts)?;
+            Ok((tally, parameters::lumped(scenario, &plan)))
+        }
+        EngineKind::Rigid => {
+            let bad = |e: rockfall_rigid::RigidError| {
+                SimError::engine(scenario, &e, &["rock.shape", "dem"])
+            };
+            let model = RigidModel::new(scenario, forest).map_err(bad)?;
+            let plan = Plan::new(model, scenario).map_err(bad)?;
+            let tally = run_plan(&plan, layout, rocks, opts)?;
+            Ok((tally, parameters::rigid(scenario, plan.engine())))
+        }
+    }
+}
+
+fn run_plan<E: Engine>(
+    plan: &Plan<E>,
+    layout: &Arc<Layout>,
+    rocks: Option<&RockSet>,
+    opts: &RunOptions<'_>,
+) -> Result<Tally, SimError> {
+    let all = RockSet::all(plan.rocks());
+    Ok(plan.run(layout, rocks.unwrap_or(&all), opts)?)
+}
+
+/// Rocks a run of `scenario` releases: every source cell's and every point's.
+pub fn rocks(scenario: &Scenario) -> u64 {
+    rockfall_engine::Releases::of(scenario).rocks()
+}
