@@ -8,10 +8,11 @@ use rockfall_forest::Forest;
 use rockfall_report::ReportInput;
 use rockfall_results::{ForestEffect, Results};
 use rockfall_scenario::Scenario;
-use rockfall_sim::{Overrides, RunOptions, SimError, Simulation};
+use rockfall_sim::{Observer, Overrides, SimError, Simulation};
 use serde_json::Value;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
@@ -44,44 +45,91 @@ pub fn simulate(
     threads: usize,
     label: &str,
 ) -> Result<Results, Failure> {
-    with_progress(rockfall_sim::rocks(scenario), threads, label, |opts| {
-        rockfall_sim::run(scenario, forest, None, opts)
-    })
-    .map_err(|e| match e.is_bad_input() {
-        true => Failure::BadInput(e.into()),
-        false => Failure::Internal(e.into()),
-    })
+    rockfall_sim::run_observed(scenario, forest, threads, label, &Console::default()).map_err(
+        |e| match e.is_bad_input() {
+            true => Failure::BadInput(e.into()),
+            false => Failure::Internal(e.into()),
+        },
+    )
 }
 
-/// Runs `run` with a progress bar over `rocks` rocks (shown on a terminal only).
-fn with_progress<T>(
+/// What the terminal shows of runs: a progress bar per run (on a terminal only), a warning
+/// when a run would take more than an hour, and, with `summaries`, each run's headline
+/// numbers when it ends.
+#[derive(Default)]
+pub struct Console {
+    /// Print each finished run's headline numbers.
+    pub summaries: bool,
+    run: Mutex<Option<ConsoleRun>>,
+}
+
+/// The run under way.
+struct ConsoleRun {
+    bar: ProgressBar,
+    label: String,
     rocks: u64,
-    threads: usize,
-    label: &str,
-    run: impl FnOnce(&RunOptions<'_>) -> T,
-) -> T {
-    let bar = progress_bar(rocks, label, "rocks");
-    let started = Instant::now();
-    let done = AtomicU64::new(0);
-    let warned = AtomicBool::new(false);
-    let tick = |n: u64| {
-        bar.inc(n);
-        let so_far = done.fetch_add(n, Ordering::Relaxed) + n;
-        if !warned.load(Ordering::Relaxed)
-            && let Some(w) = long_run_warning(rocks, so_far, started.elapsed().as_secs_f64())
-            && !warned.swap(true, Ordering::Relaxed)
+    started: Instant,
+    done: AtomicU64,
+    warned: AtomicBool,
+}
+
+impl Console {
+    /// A console that also prints each finished run's headline numbers.
+    pub fn with_summaries() -> Console {
+        Console {
+            summaries: true,
+            ..Console::default()
+        }
+    }
+}
+
+impl Observer for Console {
+    fn started(&self, label: &str, rocks: u64) {
+        let run = ConsoleRun {
+            bar: progress_bar(rocks, label, "rocks"),
+            label: label.to_string(),
+            rocks,
+            started: Instant::now(),
+            done: AtomicU64::new(0),
+            warned: AtomicBool::new(false),
+        };
+        *self.run.lock().unwrap_or_else(|e| e.into_inner()) = Some(run);
+    }
+
+    fn advanced(&self, n: u64) {
+        let guard = self.run.lock().unwrap_or_else(|e| e.into_inner());
+        let Some(run) = guard.as_ref() else {
+            return;
+        };
+        run.bar.inc(n);
+        let so_far = run.done.fetch_add(n, Ordering::Relaxed) + n;
+        if !run.warned.load(Ordering::Relaxed)
+            && let Some(w) =
+                long_run_warning(run.rocks, so_far, run.started.elapsed().as_secs_f64())
+            && !run.warned.swap(true, Ordering::Relaxed)
         {
             // above the progress bar, or plainly on stderr without one
-            bar.suspend(|| eprintln!("{label}: {w}"));
+            run.bar.suspend(|| eprintln!("{}: {w}", run.label));
         }
-    };
-    let opts = RunOptions {
-        threads,
-        progress: Some(&tick),
-    };
-    let out = run(&opts);
-    bar.finish_and_clear();
-    out
+    }
+
+    fn finished(&self, label: &str, results: &Results) {
+        if let Some(run) = self.run.lock().unwrap_or_else(|e| e.into_inner()).take() {
+            run.bar.finish_and_clear();
+        }
+        if self.summaries {
+            print_summary(&format!("{label}:"), results);
+        }
+    }
+
+    fn wrote(&self, out: &Path, files: &[PathBuf]) {
+        println!(
+            "wrote {} files to {} (open {})",
+            files.len(),
+            out.display(),
+            out.join("report.html").display()
+        );
+    }
 }
 
 /// Seconds of running after which the rate is trusted for an estimate.
@@ -166,30 +214,22 @@ pub fn command_line() -> String {
 
 /// Writes `results` into `out` with the report and GIS files, and prints where.
 pub fn write(results: &Results, out: &Path, ascii: bool, ctx: &Context<'_>) -> Result<(), Failure> {
-    let mut files = results
-        .write(out, ascii)
-        .map_err(|e| Failure::Internal(e.into()))?;
-    let mut listed = ctx.files.clone();
-    listed.extend(files.iter().cloned());
     let input = ReportInput {
         scenario: ctx.scenario,
         results,
         stems: ctx.forest.map_or(&[], |f| f.stems()),
         input: ctx.input.clone(),
         command: command_line(),
-        files: listed,
+        files: ctx.files.clone(),
         forest_effect: ctx.forest_effect,
         links: ctx.links.clone(),
         label: ctx.label.clone(),
     };
-    let report = rockfall_report::write(out, &input).map_err(|e| Failure::Internal(e.into()))?;
-    files.extend(report);
-    println!(
-        "wrote {} files to {} (open {})",
-        files.len() + ctx.files.len(),
-        out.display(),
-        out.join("report.html").display()
-    );
+    let files = rockfall_report::write_run(out, ascii, &input)
+        .map_err(|e| Failure::Internal(e.into()))?;
+    let mut listed = ctx.files.clone();
+    listed.extend(files);
+    Console::default().wrote(out, &listed);
     Ok(())
 }
 

@@ -11,9 +11,11 @@
 //!
 //! Printing, progress bars and files are the caller's: the driver reads and writes nothing.
 
+mod observe;
 pub mod parameters;
 mod rock;
 
+pub use observe::{Observer, Quiet};
 pub use rock::RigidRock;
 
 use rockfall_engine::{Engine, Plan, PoolError, RockSet};
@@ -192,19 +194,16 @@ impl Simulation {
         self.threads
     }
 
-    /// Runs every rock, with the forest (`with_forest`) or without it, reporting progress
-    /// through `progress`.
+    /// Runs every rock, with the forest (`with_forest`) or without it, telling `observer`
+    /// about the run labelled `label`.
     pub fn run(
         &self,
         with_forest: bool,
-        progress: Option<&(dyn Fn(u64) + Sync)>,
+        label: &str,
+        observer: &dyn Observer,
     ) -> Result<Results, SimError> {
         let forest = self.stems().filter(|_| with_forest);
-        let opts = RunOptions {
-            threads: self.threads,
-            progress,
-        };
-        run(&self.scenario, forest, None, &opts)
+        run_observed(&self.scenario, forest, self.threads, label, observer)
     }
 
     /// The tally of the rocks of `rocks` (with the forest), on `layout`.
@@ -217,9 +216,29 @@ impl Simulation {
     }
 }
 
+/// Runs `scenario` with `forest` on `threads` workers as [`run`] does, telling `observer`
+/// when it starts (labelled `label`), how far it is and when it is done.
+pub fn run_observed(
+    scenario: &Scenario,
+    forest: Option<&Forest>,
+    threads: usize,
+    label: &str,
+    observer: &dyn Observer,
+) -> Result<Results, SimError> {
+    observer.started(label, rocks(scenario));
+    let advanced = |n: u64| observer.advanced(n);
+    let opts = RunOptions {
+        threads,
+        progress: Some(&advanced),
+    };
+    let results = run(scenario, forest, None, &opts)?;
+    observer.finished(label, &results);
+    Ok(results)
+}
+
 /// Simulates `scenario` with `overrides` applied first: every rock, with its forest.
 pub fn simulate(scenario: Scenario, overrides: &Overrides) -> Result<Results, SimError> {
-    Simulation::new(scenario, overrides)?.run(true, None)
+    Simulation::new(scenario, overrides)?.run(true, "", &Quiet)
 }
 
 /// Runs `scenario` (validated, overrides applied) with `forest` (none: without trees): the

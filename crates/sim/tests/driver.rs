@@ -9,7 +9,7 @@ use rockfall_forest::StandOptions;
 use rockfall_raster::Field;
 use rockfall_results::{Layout, Results, RunInfo, Tally};
 use rockfall_scenario::{Engine, ForestSpec, Scenario, Stands};
-use rockfall_sim::{Overrides, Simulation, simulate};
+use rockfall_sim::{Overrides, Quiet, Simulation, simulate};
 use std::sync::Arc;
 
 /// vaujany-site2 (lumped, its forest) with `rocks` rocks.
@@ -135,7 +135,7 @@ fn a_stand_forest_is_expanded_from_the_overridden_seed() {
     assert!(!a.forest().is_empty());
     assert_eq!(a.forest().stems(), b.forest().stems());
     assert_ne!(a.forest().stems(), seeded(6, 5).forest().stems());
-    let (ra, rb) = (a.run(true, None).unwrap(), b.run(true, None).unwrap());
+    let (ra, rb) = (a.run(true, "", &Quiet).unwrap(), b.run(true, "", &Quiet).unwrap());
     assert_eq!(fingerprint(&ra), fingerprint(&rb));
 }
 
@@ -166,7 +166,7 @@ fn merged_equals_union(scenario: Scenario, split: &[std::ops::Range<u64>]) {
     assert_eq!(m.rocks(), total);
     assert_eq!(fingerprint(&m), fingerprint(&u));
     // and the whole run through the driver is that union too
-    let run = sim.run(true, None).unwrap();
+    let run = sim.run(true, "", &Quiet).unwrap();
     assert_eq!(run.rocks(), total);
 }
 
