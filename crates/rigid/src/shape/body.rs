@@ -43,7 +43,8 @@ impl RockBody {
 ///   to π d1 d2 d3/6; a disc the 32-gon elliptic prism of thickness d1 and diameters d2, d3
 ///   scaled to π d1 d2 d3/4; a box is exact.
 /// - Named shapes are the synthetic stand-ins of [`natural_points`] at their table 2 size.
-/// - Files are the convex hull of their points ([`load_points`]).
+/// - Files are the convex hull of their points ([`load_points`]), and so are point clouds
+///   already read ([`RockShape::Cloud`]).
 ///
 /// Then `volume_m3`, when set, rescales any shape uniformly to that volume (the scenario sets it
 /// to 0.02 m³ for named shapes by default, as in seed 001).
@@ -67,6 +68,9 @@ pub fn body_from_spec(spec: &RockSpec) -> Result<RockBody, ShapeError> {
             natural_points(name).ok_or_else(|| ShapeError::UnknownShape(name.clone()))?,
             None,
         ),
+        RockShape::Cloud { points_m, .. } => {
+            (points_m.iter().map(|&p| V3::from_array(p)).collect(), None)
+        }
         RockShape::File(path) => (load_points(path)?, None),
     };
     let geometry = RockGeometry::from_points(&points)?;
