@@ -176,7 +176,7 @@ impl Resolver {
                         });
                     }
                     self.sources.insert("rock.shape".into(), path.clone());
-                    RockShape::File(path)
+                    crate::shape::read_shape(RockShape::File(path))?
                 }
                 other => other,
             },
