@@ -51,9 +51,17 @@ fn failure(e: LabError) -> Failure {
     }
 }
 
-/// The rock of `shape` scaled to `volume_m3` at `density_kg_m3`.
+/// The rock shape `flag` (`--shape` or `--shapes`) names in `shape`, a file read into its points
+/// (a path relative to the working directory); every problem is bad input.
+fn parse_shape(flag: &str, shape: &str) -> Result<RockShape, Failure> {
+    let parsed = RockShape::parse(shape).map_err(|e| Failure::BadInput(anyhow!("{flag}: {e}")))?;
+    rockfall_io::shape::read_shape(parsed)
+        .map_err(|e| Failure::BadInput(anyhow!("{flag} {shape}: {e}")))
+}
+
+/// The rock of `shape` scaled to `volume_m3` at `density_kg_m3` (a file read into its points).
 pub fn rock_spec(shape: &str, volume_m3: f64, density_kg_m3: f64) -> Result<RockSpec, Failure> {
-    let parsed = RockShape::parse(shape).map_err(|e| Failure::BadInput(anyhow!("--shape: {e}")))?;
+    let parsed = parse_shape("--shape", shape)?;
     // block shapes start as a sphere of the volume's diameter; every shape is then rescaled
     let d_m = (6.0 * volume_m3 / std::f64::consts::PI).cbrt();
     Ok(RockSpec {
@@ -235,8 +243,7 @@ fn shape_scenarios(base: &Scenario, shapes: &[String]) -> Result<Vec<(String, Sc
             )));
         }
         let mut sc = base.clone();
-        sc.rock.shape =
-            RockShape::parse(shape).map_err(|e| Failure::BadInput(anyhow!("--shapes: {e}")))?;
+        sc.rock.shape = parse_shape("--shapes", shape)?;
         sc.rock.volume_m3 = Some(volume_m3);
         body_from_spec(&sc.rock)
             .map_err(|e| Failure::BadInput(anyhow!("--shapes {shape}: {e}")))?;

@@ -199,6 +199,36 @@ fn rigid_engine_runs_forest_slope_40_end_to_end_and_validates_its_input() {
     std::fs::write(&flat, text.replace("\"cubic1.2\"", "\"flat.xyz\"")).unwrap();
     bad_input(rockfall(&["check", s(&flat)]), &["flat.xyz", "coplanar"]);
     bad_input(rockfall(&["run", s(&flat)]), &["flat.xyz", "coplanar"]);
+    // garbled or truncated rock files are read with the scenario: bad input naming the file
+    // and the line or record
+    let ascii_ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n\
+                     property float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 oops\n";
+    let mut binary_stl = vec![0u8; 80];
+    binary_stl.extend(2u32.to_le_bytes());
+    binary_stl.extend([0u8; 50]); // one triangle of the two promised: not a binary STL
+    for (name, bytes, needles) in [
+        (
+            "bad.ply",
+            ascii_ply.as_bytes(),
+            &["bad.ply:10:", "cannot read vertex 3"][..],
+        ),
+        (
+            "bad.stl",
+            &binary_stl[..],
+            &["bad.stl:1:", "neither ASCII STL"][..],
+        ),
+        (
+            "bad.obj",
+            b"v 0 0 0\nv 1 0\n",
+            &["bad.obj:2:", "expected `v x y z`"][..],
+        ),
+    ] {
+        std::fs::write(dir.join(name), bytes).unwrap();
+        let toml = dir.join(format!("{name}.toml"));
+        std::fs::write(&toml, text.replace("\"cubic1.2\"", &format!("\"{name}\""))).unwrap();
+        bad_input(rockfall(&["check", s(&toml)]), needles);
+        bad_input(rockfall(&["run", s(&toml)]), needles);
+    }
 
     std::fs::remove_file(dir.join("dem.asc")).unwrap();
     bad_input(rockfall(&["run", s(&scenario)]), &["dem.asc"]);

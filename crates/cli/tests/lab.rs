@@ -152,6 +152,19 @@ fn bad_lab_input_is_named() {
     bad_input(run(&["--shape", "banana"]), &["--shape", "banana"]);
     let missing = tmp.path().join("nowhere.xyz");
     bad_input(run(&["--shape", s(&missing)]), &["nowhere.xyz"]);
+    // garbled files: the message names the file and the line or record
+    let garbled = tmp.path().join("garbled.stl");
+    std::fs::write(&garbled, "solid rock\n  vertex 0 0 zero\nendsolid\n").unwrap();
+    bad_input(
+        run(&["--shape", s(&garbled)]),
+        &["--shape", "garbled.stl:2:", "vertex x y z"],
+    );
+    let garbled = tmp.path().join("garbled.obj");
+    std::fs::write(&garbled, "v 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
+    bad_input(
+        run(&["--shape", s(&garbled)]),
+        &["garbled.obj has 3 points"],
+    );
     let not_a_run = tmp.path().join("empty");
     std::fs::create_dir(&not_a_run).unwrap();
     let compare = |dir: &Path| rockfall(&["impact-lab", "--out", s(&out), "--compare", s(dir)]);
@@ -264,6 +277,15 @@ fn shape_study_input_is_checked() {
         s(&out),
     ]);
     bad_input(run, &["flat2.2", "twice"]);
+    let garbled = tmp.path().join("garbled.ply");
+    std::fs::write(
+        &garbled,
+        "ply\nformat ascii 1.0\nelement vertex 4\nend_header\n",
+    )
+    .unwrap();
+    let shapes = format!("cubic1.2,{}", garbled.display());
+    let run = rockfall(&["shape-study", "--shapes", &shapes, "--out", s(&out)]);
+    bad_input(run, &["--shapes", "garbled.ply:3:", "no scalar x, y, z"]);
     assert!(
         !out.exists(),
         "nothing runs or is written before every shape is checked"

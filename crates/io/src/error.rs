@@ -16,6 +16,9 @@ pub enum InputError {
     /// A raster could not be read.
     #[error(transparent)]
     Raster(#[from] RasterError),
+    /// A rock shape file could not be read or has no usable points.
+    #[error(transparent)]
+    Shape(#[from] crate::shape::ShapeFileError),
     /// A file could not be read or written.
     #[error("{path}: {source}")]
     Io {

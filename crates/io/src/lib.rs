@@ -4,6 +4,9 @@
 //!   ([`scenario_file`], TOML) → a validated
 //!   [`rockfall_scenario::Scenario`].
 //! - [`trees`]: tree lists (CSV and the Rockyfor3D tree file).
+//! - [`shape`]: rock point clouds and meshes (`.xyz`, `.csv`, `.txt`, `.obj`, `.ply`, `.stl`)
+//!   → points; a scenario's rock file is read as the scenario is, so that the engines get
+//!   points, never a path.
 //! - [`write`]: a scenario written back as input files (rasters, tree list, scenario file,
 //!   and the Rockyfor3D file set where the scenario fits it) — how `rockfall site` exports
 //!   the built-in sites.
@@ -15,6 +18,7 @@ mod error;
 pub mod rockyfor;
 pub mod scenario_file;
 mod schema;
+pub mod shape;
 pub mod trees;
 pub mod write;
 

@@ -176,7 +176,7 @@ impl Resolver {
                         });
                     }
                     self.sources.insert("rock.shape".into(), path.clone());
-                    RockShape::File(path)
+                    crate::shape::read_shape(RockShape::File(path))?
                 }
                 other => other,
             },
@@ -210,7 +210,9 @@ impl Resolver {
                         .ok_or_else(|| {
                             self.invalid("rock.shape", format!("unknown named shape {n}"))
                         })?,
-                    RockShape::File(_) => [Field::Const(0.0), Field::Const(0.0), Field::Const(0.0)],
+                    RockShape::File(_) | RockShape::Cloud { .. } => {
+                        [Field::Const(0.0), Field::Const(0.0), Field::Const(0.0)]
+                    }
                     _ => return Err(self.invalid(
                         "rock",
                         "missing dimensions: give `diameter_m`, `dims_m` or `d1_m`/`d2_m`/`d3_m`",

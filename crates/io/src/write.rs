@@ -163,14 +163,17 @@ impl Writer {
         let r = &s.rock;
         match &r.shape {
             RockShape::PerCell(f) => t += &self.param("blshape", "blshape.asc", f)?,
-            RockShape::File(p) => {
+            RockShape::File(p) | RockShape::Cloud { source: p, .. } => {
                 let _ = writeln!(t, "shape = {}", quote(&p.to_string_lossy()));
             }
             other => {
                 let _ = writeln!(t, "shape = \"{}\"", other.describe());
             }
         }
-        let named = matches!(r.shape, RockShape::Named(_) | RockShape::File(_));
+        let named = matches!(
+            r.shape,
+            RockShape::Named(_) | RockShape::File(_) | RockShape::Cloud { .. }
+        );
         let same = r.dims_m.iter().all(|d| matches!(d, Field::Const(_)))
             && r.dims_m[0] == r.dims_m[1]
             && r.dims_m[1] == r.dims_m[2];

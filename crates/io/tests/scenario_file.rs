@@ -522,11 +522,32 @@ fn rock_files_must_exist() {
     let (dir, _) = load_text(MINIMAL);
     let rocks: PathBuf = dir.path().join("rocks");
     std::fs::create_dir(&rocks).unwrap();
+    // the file is read with the scenario, relative to its folder: the engines get points
     std::fs::write(rocks.join("r1.obj"), "v 0 0 0\n").unwrap();
     let path = dir.path().join("scenario.toml");
-    std::fs::write(&path, text).unwrap();
+    std::fs::write(&path, &text).unwrap();
+    let e = load(&path).unwrap_err().to_string();
+    assert!(e.contains("r1.obj has 1 points"), "{e}");
+    std::fs::write(
+        rocks.join("r1.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n",
+    )
+    .unwrap();
     let s = load(&path).unwrap();
-    assert_eq!(s.rock.shape, RockShape::File(rocks.join("r1.obj")));
+    assert_eq!(
+        s.rock.shape,
+        RockShape::Cloud {
+            source: rocks.join("r1.obj"),
+            points_m: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        }
+    );
+    assert_eq!(
+        s.rock.shape.describe(),
+        format!("hull of {}", rocks.join("r1.obj").display())
+    );
+    std::fs::write(rocks.join("r1.obj"), "v 0 0 0\nv 1 0 zero\n").unwrap();
+    let e = load(&path).unwrap_err().to_string();
+    assert!(e.contains("r1.obj:2:"), "{e}");
 }
 
 #[test]

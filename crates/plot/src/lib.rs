@@ -3,8 +3,9 @@
 //! Value colours come from a [`Ramp`] (viridis by default).
 //!
 //! Every function renders into an in-memory RGB buffer, encodes the PNG in memory and writes it
-//! atomically (a temporary file in the target's folder, renamed over the target): on error
-//! nothing is left behind and an existing figure is untouched.
+//! atomically through the workspace's one writer, `rockfall_raster::atomic` (a temporary file
+//! in the target's folder, renamed over the target): on error nothing is left behind and an
+//! existing figure is untouched.
 //!
 //! Text uses DejaVu Sans, embedded in the crate (no fontconfig, no system fonts).
 //! Non-finite points and values are skipped, never drawn and never an error.

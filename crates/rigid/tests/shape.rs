@@ -1,6 +1,6 @@
 //! Rock shapes: exact mass properties against closed forms, the principal frame, hull
-//! orientation, the block and natural shapes of seed 001. (The file loaders are tested in
-//! `src/shape/files_tests.rs`.)
+//! orientation, the block and natural shapes of seed 001, point clouds. (The shape files are read
+//! by `rockfall_io::shape`, and tested there.)
 #![allow(clippy::unwrap_used)]
 
 use rockfall_raster::Field;
@@ -236,6 +236,52 @@ fn bad_specs_are_refused() {
         RockGeometry::from_points(&nan_point),
         Err(ShapeError::BadParameter(_))
     ));
+}
+
+#[test]
+fn point_clouds_are_their_hull_and_unread_files_are_refused() {
+    // the unit cube's corners, an interior point and a duplicate corner
+    let mut points: Vec<[f64; 3]> = box_points([1.0; 3])
+        .iter()
+        .map(|&c| (c + 0.5).to_array())
+        .collect();
+    points.push([0.5; 3]);
+    points.push(points[0]);
+    let mut spec = RockSpec::sphere(1.0, 2700.0);
+    spec.shape = RockShape::Cloud {
+        source: "cube.xyz".into(),
+        points_m: points,
+    };
+    let body = body_from_spec(&spec).unwrap();
+    assert!(close(body.geometry.volume_m3, 1.0, 1e-12));
+    assert_eq!(body.geometry.vertices_m.len(), 8);
+    spec.volume_m3 = Some(0.02);
+    assert!(close(
+        body_from_spec(&spec).unwrap().geometry.volume_m3,
+        0.02,
+        1e-12
+    ));
+
+    let flat = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+    ];
+    spec.shape = RockShape::Cloud {
+        source: "flat.xyz".into(),
+        points_m: flat.to_vec(),
+    };
+    assert!(matches!(
+        body_from_spec(&spec),
+        Err(ShapeError::Degenerate(_))
+    ));
+
+    // the engine reads no files: a path is refused, naming it
+    spec.shape = RockShape::File("rocks/r1.ply".into());
+    let err = body_from_spec(&spec).unwrap_err();
+    assert!(matches!(err, ShapeError::Unread { .. }), "{err:?}");
+    assert!(err.to_string().contains("rocks/r1.ply"), "{err}");
 }
 
 #[test]

@@ -84,8 +84,19 @@ pub enum RockShape {
     PerCell(Field),
     /// A named natural shape of seed 001 (`cubic1.2`, `flat2.2`, `long2.2`; rigid engine).
     Named(String),
-    /// A point cloud or mesh file whose convex hull is the rock (rigid engine).
+    /// A point cloud or mesh file whose convex hull is the rock (rigid engine), not read yet:
+    /// what [`RockShape::parse`] gives for a path. Readers turn it into [`RockShape::Cloud`]
+    /// (`rockfall_io::shape::read_shape`); the engines take only points and refuse it.
     File(PathBuf),
+    /// The points of a point cloud or mesh file, read: the rock is their convex hull (rigid
+    /// engine).
+    Cloud {
+        /// The file the points were read from, as named (resolved against the scenario's
+        /// folder for scenario files); for descriptions and written scenarios.
+        source: PathBuf,
+        /// The points, m, in the file's own coordinates.
+        points_m: Vec<[f64; 3]>,
+    },
 }
 
 impl RockShape {
@@ -125,7 +136,9 @@ impl RockShape {
             RockShape::Block(b) => b.name().into(),
             RockShape::PerCell(_) => "per cell (blshape raster)".into(),
             RockShape::Named(n) => n.clone(),
-            RockShape::File(p) => format!("hull of {}", p.display()),
+            RockShape::File(p) | RockShape::Cloud { source: p, .. } => {
+                format!("hull of {}", p.display())
+            }
         }
     }
 }
@@ -136,7 +149,8 @@ pub struct RockSpec {
     /// Shape.
     pub shape: RockShape,
     /// Dimensions d1, d2, d3, m (Rockyfor3D: height, width, length); for a sphere all three
-    /// equal the diameter. Ignored for named and file shapes, which carry their own.
+    /// equal the diameter. Ignored for named, file and point-cloud shapes, which carry their
+    /// own.
     pub dims_m: [Field; 3],
     /// When set, the shape is rescaled to this volume, m³.
     pub volume_m3: Option<f64>,
@@ -219,6 +233,16 @@ mod tests {
         assert_eq!(
             RockShape::parse("rocks/r1.obj"),
             Ok(RockShape::File("rocks/r1.obj".into()))
+        );
+        // read or not, a file's rock is described by its path (summary.json's `rock_shape`)
+        let cloud = RockShape::Cloud {
+            source: "rocks/r1.obj".into(),
+            points_m: vec![[0.0; 3]; 4],
+        };
+        assert_eq!(cloud.describe(), "hull of rocks/r1.obj");
+        assert_eq!(
+            RockShape::File("rocks/r1.obj".into()).describe(),
+            cloud.describe()
         );
         assert!(
             RockShape::parse("pyramid")

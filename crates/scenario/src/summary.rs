@@ -118,7 +118,7 @@ fn rock_text(s: &Scenario) -> String {
     let r = &s.rock;
     let density = range_text(r.density_kg_m3.range(), "kg/m³");
     match &r.shape {
-        RockShape::Named(_) | RockShape::File(_) => format!(
+        RockShape::Named(_) | RockShape::File(_) | RockShape::Cloud { .. } => format!(
             "{}, volume {}, density {density}",
             r.shape.describe(),
             r.volume_m3

@@ -1,8 +1,8 @@
 //! The rigid rock (geometry and density), and its construction from the scenario's rock.
 
 use super::{
-    RockGeometry, ShapeError, box_points, disc_points, ellipsoid_points, load_points,
-    natural_points, positive, sphere_points,
+    RockGeometry, ShapeError, box_points, disc_points, ellipsoid_points, natural_points, positive,
+    sphere_points,
 };
 use crate::math::V3;
 use rockfall_raster::Field;
@@ -43,7 +43,9 @@ impl RockBody {
 ///   to π d1 d2 d3/6; a disc the 32-gon elliptic prism of thickness d1 and diameters d2, d3
 ///   scaled to π d1 d2 d3/4; a box is exact.
 /// - Named shapes are the synthetic stand-ins of [`natural_points`] at their table 2 size.
-/// - Files are the convex hull of their points ([`load_points`]).
+/// - Point clouds ([`RockShape::Cloud`], read from their files by `rockfall_io::shape`) are
+///   their convex hull. A file not yet read ([`RockShape::File`]) is refused
+///   ([`ShapeError::Unread`]): the engine reads no files.
 ///
 /// Then `volume_m3`, when set, rescales any shape uniformly to that volume (the scenario sets it
 /// to 0.02 m³ for named shapes by default, as in seed 001).
@@ -67,7 +69,10 @@ pub fn body_from_spec(spec: &RockSpec) -> Result<RockBody, ShapeError> {
             natural_points(name).ok_or_else(|| ShapeError::UnknownShape(name.clone()))?,
             None,
         ),
-        RockShape::File(path) => (load_points(path)?, None),
+        RockShape::Cloud { points_m, .. } => {
+            (points_m.iter().map(|&p| V3::from_array(p)).collect(), None)
+        }
+        RockShape::File(path) => return Err(ShapeError::Unread { path: path.clone() }),
     };
     let geometry = RockGeometry::from_points(&points)?;
     let geometry = match spec.volume_m3.or(smooth_volume_m3) {

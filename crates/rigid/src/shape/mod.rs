@@ -12,22 +12,18 @@
 //!   "sphere" rock has the mass of the ball ([`body_from_spec`]);
 //! - the natural rocks of seed 001 (table 2: `cubic1.2`, `flat2.2`, `long2.2`) are synthetic
 //!   stand-ins for the scans we do not have ([`natural_points`], built as [`named`] describes);
-//! - any other rock is read from a point cloud or mesh file ([`load_points`]).
+//! - any other rock is the hull of a point cloud the scenario carries
+//!   ([`RockShape::Cloud`](rockfall_scenario::RockShape::Cloud)), read from its point cloud or
+//!   mesh file by `rockfall_io::shape` before the engine sees it: the engine reads no files.
 
 mod body;
 mod class;
-pub mod files;
-#[cfg(test)]
-mod files_tests;
 mod geometry;
 mod mass;
 pub mod named;
-mod ply;
-mod stl;
 
 pub use body::{RockBody, body_from_spec};
 pub use class::ShapeClass;
-pub use files::load_points;
 pub use geometry::RockGeometry;
 pub use mass::{MassProperties, mass_properties, principal_axes};
 pub use named::{
@@ -40,23 +36,16 @@ use std::path::PathBuf;
 /// Errors building a rock shape.
 #[derive(Debug, thiserror::Error)]
 pub enum ShapeError {
-    /// A shape file could not be read.
-    #[error("cannot read {}: {source}", path.display())]
-    Io {
+    /// A rock shape file that has not been read: the engine takes the points
+    /// ([`RockShape::Cloud`](rockfall_scenario::RockShape::Cloud)), never a path.
+    #[error(
+        "rock shape file {} was not read: the rigid engine takes its points, not a path \
+         (read it with rockfall_io::shape::read_shape)",
+        path.display()
+    )]
+    Unread {
         /// The file.
         path: PathBuf,
-        /// What the operating system said.
-        source: std::io::Error,
-    },
-    /// A shape file has a line (text formats) or record (binary formats) that is not valid.
-    #[error("{}:{line}: {what}", path.display())]
-    Parse {
-        /// The file.
-        path: PathBuf,
-        /// 1-based line number (text), or 1-based vertex / triangle number (binary PLY / STL).
-        line: usize,
-        /// What is wrong.
-        what: String,
     },
     /// The points do not span a solid: fewer than 4 points, all coplanar, zero volume, or the
     /// convex hull failed.

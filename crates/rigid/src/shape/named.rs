@@ -17,7 +17,7 @@
 //!    paper's.
 //!
 //! They have the paper's bulk proportions but not its rocks' facets and asymmetries. To simulate
-//! a real rock, give its scan as a point cloud or mesh file ([`super::load_points`]).
+//! a real rock, give its scan as a point cloud or mesh file (read by `rockfall_io::shape`).
 
 use crate::math::V3;
 use std::collections::HashMap;

@@ -5,9 +5,8 @@
 //! elements after it are ignored, and so are all other vertex properties. Errors name the line
 //! (header and ASCII body) or the record, e.g. vertex 7 (binary body).
 
-use super::ShapeError;
-use super::files::{finite_point, parse_error};
-use crate::math::V3;
+use super::ShapeFileError;
+use super::{finite_point, parse_error};
 use std::path::Path;
 
 /// A PLY scalar type.
@@ -93,7 +92,7 @@ struct Header {
 }
 
 /// The vertices of a PLY file.
-pub(super) fn parse_ply(path: &Path, bytes: &[u8]) -> Result<Vec<V3>, ShapeError> {
+pub(super) fn parse_ply(path: &Path, bytes: &[u8]) -> Result<Vec<[f64; 3]>, ShapeFileError> {
     let header = parse_header(path, bytes)?;
     let last_line = header.lines;
     let vertex = header
@@ -137,7 +136,7 @@ pub(super) fn parse_ply(path: &Path, bytes: &[u8]) -> Result<Vec<V3>, ShapeError
 }
 
 /// Parses the header up to and including `end_header`.
-fn parse_header(path: &Path, bytes: &[u8]) -> Result<Header, ShapeError> {
+fn parse_header(path: &Path, bytes: &[u8]) -> Result<Header, ShapeFileError> {
     let mut binary = None;
     let mut elements: Vec<Element> = Vec::new();
     let mut offset = 0;
@@ -214,7 +213,7 @@ enum Body<'a> {
 }
 
 impl<'a> Body<'a> {
-    fn new(path: &Path, bytes: &'a [u8], header: &Header) -> Result<Body<'a>, ShapeError> {
+    fn new(path: &Path, bytes: &'a [u8], header: &Header) -> Result<Body<'a>, ShapeFileError> {
         let body = &bytes[header.body_start..];
         if header.binary {
             return Ok(Body::Binary {

@@ -5,9 +5,8 @@
 //! binary when its size is exactly 84 + 50 × count (some binary files also begin with `solid`),
 //! else as ASCII when it begins with `solid`.
 
-use super::ShapeError;
-use super::files::{finite_point, keyword_points, parse_error};
-use crate::math::V3;
+use super::ShapeFileError;
+use super::{finite_point, keyword_points, parse_error};
 use std::path::Path;
 
 /// Bytes of the binary header and count.
@@ -16,7 +15,7 @@ const HEADER_BYTES: usize = 84;
 const RECORD_BYTES: usize = 50;
 
 /// The triangle corners of an STL file (ASCII or binary).
-pub(super) fn parse_stl(path: &Path, bytes: &[u8]) -> Result<Vec<V3>, ShapeError> {
+pub(super) fn parse_stl(path: &Path, bytes: &[u8]) -> Result<Vec<[f64; 3]>, ShapeFileError> {
     if let Some(count) = binary_count(bytes) {
         return parse_binary(path, bytes, count);
     }
@@ -40,7 +39,7 @@ fn binary_count(bytes: &[u8]) -> Option<usize> {
 }
 
 /// Corners of a binary STL of `count` triangles; errors name the triangle (1-based).
-fn parse_binary(path: &Path, bytes: &[u8], count: usize) -> Result<Vec<V3>, ShapeError> {
+fn parse_binary(path: &Path, bytes: &[u8], count: usize) -> Result<Vec<[f64; 3]>, ShapeFileError> {
     let mut points = Vec::with_capacity(3 * count);
     for (t, record) in bytes[HEADER_BYTES..].chunks_exact(RECORD_BYTES).enumerate() {
         for corner in 0..3 {
