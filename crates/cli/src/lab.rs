@@ -3,11 +3,11 @@
 use crate::Failure;
 use crate::simulate;
 use anyhow::anyhow;
-use rockfall_lab::slope::{FallLine, SlopeRun, Study, write_study};
+use rockfall_lab::study::{ShapeStudy, run_shape_study, shape_label};
 use rockfall_lab::summary::{Labelled, Metrics, regime_table};
 use rockfall_lab::{Lab, LabError, LabSetup, run_lab};
-use rockfall_rigid::shape::body_from_spec;
-use rockfall_scenario::{Engine, RockShape, RockSpec, Scenario};
+use rockfall_scenario::RockShape;
+use rockfall_sim::{Overrides, Simulation};
 use std::path::{Path, PathBuf};
 
 /// The flags of `impact-lab` that shape the experiment.
@@ -34,20 +34,10 @@ pub struct LabFlags {
 
 /// Bad flags and unreadable inputs are the user's; anything else is ours.
 fn failure(e: LabError) -> Failure {
-    match e {
-        LabError::Setup(_) | LabError::Shape(_) | LabError::Read { .. } => {
-            Failure::BadInput(e.into())
-        }
-        // a missing input folder or an output folder we may not write to
-        LabError::Io { ref source, .. }
-            if matches!(
-                source.kind(),
-                std::io::ErrorKind::NotFound | std::io::ErrorKind::PermissionDenied
-            ) =>
-        {
-            Failure::BadInput(e.into())
-        }
-        other => Failure::Internal(other.into()),
+    if e.is_bad_input() {
+        Failure::BadInput(e.into())
+    } else {
+        Failure::Internal(e.into())
     }
 }
 
@@ -57,28 +47,6 @@ fn parse_shape(flag: &str, shape: &str) -> Result<RockShape, Failure> {
     let parsed = RockShape::parse(shape).map_err(|e| Failure::BadInput(anyhow!("{flag}: {e}")))?;
     rockfall_io::shape::read_shape(parsed)
         .map_err(|e| Failure::BadInput(anyhow!("{flag} {shape}: {e}")))
-}
-
-/// The rock of `shape` scaled to `volume_m3` at `density_kg_m3` (a file read into its points).
-pub fn rock_spec(shape: &str, volume_m3: f64, density_kg_m3: f64) -> Result<RockSpec, Failure> {
-    let parsed = parse_shape("--shape", shape)?;
-    // block shapes start as a sphere of the volume's diameter; every shape is then rescaled
-    let d_m = (6.0 * volume_m3 / std::f64::consts::PI).cbrt();
-    Ok(RockSpec {
-        shape: parsed,
-        volume_m3: Some(volume_m3),
-        ..RockSpec::sphere(d_m, density_kg_m3)
-    })
-}
-
-/// A short name for a shape: its name, or a file's stem.
-pub fn shape_label(shape: &str) -> String {
-    match RockShape::parse(shape) {
-        Ok(RockShape::File(p)) => p
-            .file_stem()
-            .map_or_else(|| shape.to_string(), |s| s.to_string_lossy().into()),
-        _ => shape.to_ascii_lowercase(),
-    }
 }
 
 /// `rockfall impact-lab` (simulating).
@@ -91,10 +59,11 @@ pub fn impact_lab(flags: &LabFlags, out: &Path) -> Result<(), Failure> {
         dt_s: flags.dt_s,
         ..LabSetup::default()
     };
-    let spec = rock_spec(&flags.shape, setup.volume_m3, setup.density_kg_m3)?;
-    let body = body_from_spec(&spec)
-        .map_err(|e| Failure::BadInput(anyhow!("--shape {}: {e}", flags.shape)))?;
-    let lab = Lab::new(setup, body).map_err(failure)?;
+    let shape = parse_shape("--shape", &flags.shape)?;
+    let lab = Lab::with_shape(setup, shape).map_err(|e| match e {
+        LabError::Shape(e) => Failure::BadInput(anyhow!("--shape {}: {e}", flags.shape)),
+        other => failure(other),
+    })?;
     let label = shape_label(&flags.shape);
     let threads = simulate::threads(flags.threads);
     let bar = simulate::progress_bar(flags.samples, &format!("impact-lab {label}"), "impacts");
@@ -160,118 +129,42 @@ pub struct StudyFlags {
 
 /// `rockfall shape-study`.
 pub fn shape_study(flags: &StudyFlags, out: &Path) -> Result<(), Failure> {
-    let (study, _) = run_shape_study(flags, out)?;
-    print!("{}", study.markdown);
-    print_files(out, &study.files);
-    Ok(())
-}
-
-/// Runs and writes the shape study of `flags` into `out`; returns it with its runs.
-pub fn run_shape_study(flags: &StudyFlags, out: &Path) -> Result<(Study, Vec<SlopeRun>), Failure> {
-    if !(flags.interval_s.is_finite() && flags.interval_s > 0.0) {
-        return Err(Failure::BadInput(anyhow!(
-            "--interval-s must be finite and > 0"
-        )));
-    }
-    let (mut base, forest) = match &flags.input {
+    let (base, forest) = match &flags.input {
         Some(input) => {
-            let overrides = rockfall_sim::Overrides {
+            let overrides = Overrides {
                 seed: flags.seed,
-                ..Default::default()
+                ..Overrides::default()
             };
             crate::commands::load_simulation(input, &overrides)?.into_parts()
         }
         None => {
-            let s = rockfall_sites::build("forest-slope-40")
+            let site = rockfall_sites::build("forest-slope-40")
                 .map_err(|e| Failure::Internal(e.into()))?;
-            let f = s.build_forest().map_err(|e| Failure::Internal(e.into()))?;
-            (s, f)
+            let overrides = Overrides {
+                seed: flags.seed,
+                ..Overrides::default()
+            };
+            let sim = Simulation::new(site, &overrides).map_err(|e| Failure::Internal(e.into()))?;
+            sim.into_parts()
         }
     };
-    let input_name = flags.input.as_ref().map_or_else(
-        || "built-in site forest-slope-40 (rockfall shape-study)".to_owned(),
-        |p| p.display().to_string(),
-    );
-    base.engine = Engine::Rigid;
-    base.seed = flags.seed.unwrap_or(base.seed);
-    base.simulation.rocks_per_point = flags.rocks;
-    base.simulation.rocks_per_cell = flags.rocks;
-    base.output.trajectory_interval_s = flags.interval_s;
-    base.output.trajectories = u64::MAX; // every rock's path
-    let line = fall_line(&base)?;
-    let scenarios = shape_scenarios(&base, &flags.shapes)?;
-    let threads = simulate::threads(flags.threads);
-    let forest = (!forest.is_empty()).then_some(&forest);
-    let mut runs = Vec::new();
-    for (label, sc) in &scenarios {
-        let results = simulate::simulate(sc, forest, threads, label)?;
-        simulate::print_summary(&format!("{label}:"), &results);
-        let ctx = simulate::Context {
-            label: format!("shape {label}"),
-            ..simulate::Context::new(sc, forest, input_name.clone())
-        };
-        simulate::write(&results, &out.join(label), false, &ctx)?;
-        runs.push(SlopeRun::new(label, &results));
-    }
-    let study = write_study(out, &runs, &line).map_err(failure)?;
-    Ok((study, runs))
-}
-
-/// `base` once per shape of `shapes` (at `base`'s rock volume), labelled; every shape is
-/// checked, and labels must differ (each names its output folder), before anything runs.
-fn shape_scenarios(base: &Scenario, shapes: &[String]) -> Result<Vec<(String, Scenario)>, Failure> {
-    if shapes.is_empty() {
-        return Err(Failure::BadInput(anyhow!(
-            "--shapes: give at least one shape"
-        )));
-    }
-    let volume_m3 = match base.rock.volume_m3 {
-        Some(v) => v,
-        None => {
-            body_from_spec(&base.rock)
-                .map_err(|e| Failure::BadInput(anyhow!("rock: {e}")))?
-                .geometry
-                .volume_m3
-        }
+    let shapes = (flags.shapes.iter())
+        .map(|s| Ok((shape_label(s), parse_shape("--shapes", s)?)))
+        .collect::<Result<Vec<_>, Failure>>()?;
+    let study = ShapeStudy {
+        shapes,
+        rocks: flags.rocks,
+        interval_s: flags.interval_s,
+        threads: simulate::threads(flags.threads),
+        input: flags.input.as_ref().map_or_else(
+            || "built-in site forest-slope-40 (rockfall shape-study)".to_owned(),
+            |p| p.display().to_string(),
+        ),
+        command: simulate::command_line(),
     };
-    let mut out: Vec<(String, Scenario)> = Vec::new();
-    for shape in shapes {
-        let label = shape_label(shape);
-        if out.iter().any(|(l, _)| *l == label) {
-            return Err(Failure::BadInput(anyhow!(
-                "--shapes: `{label}` twice (each shape's run goes to a folder of its name)"
-            )));
-        }
-        let mut sc = base.clone();
-        sc.rock.shape = parse_shape("--shapes", shape)?;
-        sc.rock.volume_m3 = Some(volume_m3);
-        body_from_spec(&sc.rock)
-            .map_err(|e| Failure::BadInput(anyhow!("--shapes {shape}: {e}")))?;
-        out.push((label, sc));
-    }
-    Ok(out)
-}
-
-/// The fall line at the first release of `s`.
-fn fall_line(s: &Scenario) -> Result<FallLine, Failure> {
-    let dem = &s.terrain.dem;
-    let xy = match (s.release.points.first(), s.release.cells.first()) {
-        (Some(p), _) => [p.x_m, p.y_m],
-        (None, Some(&cell)) => {
-            let g = dem.geometry();
-            let (row, col) = g.row_col(cell);
-            let (x, y) = g.cell_center(row, col);
-            [x, y]
-        }
-        (None, None) => return Err(Failure::BadInput(anyhow!("the scenario releases no rocks"))),
-    };
-    dem.surface_at(xy[0], xy[1])
-        .and_then(|p| FallLine::new(xy, p.dzdx, p.dzdy))
-        .ok_or_else(|| {
-            Failure::BadInput(anyhow!(
-                "the ground at the release ({:.1}, {:.1}) is flat or off the DEM: no fall line",
-                xy[0],
-                xy[1]
-            ))
-        })
+    let console = simulate::Console::with_summaries();
+    let (study, _) = run_shape_study(&base, &forest, &study, out, &console).map_err(failure)?;
+    print!("{}", study.markdown);
+    print_files(out, &study.files);
+    Ok(())
 }

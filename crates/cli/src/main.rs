@@ -4,7 +4,6 @@
 mod args;
 mod commands;
 mod lab;
-mod sensitivity;
 mod simulate;
 mod validate;
 

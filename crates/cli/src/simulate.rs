@@ -45,12 +45,12 @@ pub fn simulate(
     threads: usize,
     label: &str,
 ) -> Result<Results, Failure> {
-    rockfall_sim::run_observed(scenario, forest, threads, label, &Console::default()).map_err(
-        |e| match e.is_bad_input() {
+    rockfall_sim::run_observed(scenario, forest, threads, label, &Console::default()).map_err(|e| {
+        match e.is_bad_input() {
             true => Failure::BadInput(e.into()),
             false => Failure::Internal(e.into()),
-        },
-    )
+        }
+    })
 }
 
 /// What the terminal shows of runs: a progress bar per run (on a terminal only), a warning
@@ -225,8 +225,8 @@ pub fn write(results: &Results, out: &Path, ascii: bool, ctx: &Context<'_>) -> R
         links: ctx.links.clone(),
         label: ctx.label.clone(),
     };
-    let files = rockfall_report::write_run(out, ascii, &input)
-        .map_err(|e| Failure::Internal(e.into()))?;
+    let files =
+        rockfall_report::write_run(out, ascii, &input).map_err(|e| Failure::Internal(e.into()))?;
     let mut listed = ctx.files.clone();
     listed.extend(files);
     Console::default().wrote(out, &listed);

@@ -36,7 +36,7 @@ use rockfall_rigid::shape::RockBody;
 use rockfall_rigid::stems::{Cone, Stand, StemContact};
 use rockfall_rigid::step::{RockState, StepParams, StepScratch, step};
 use rockfall_rigid::{G_MS2, V3};
-use rockfall_scenario::ContactParams;
+use rockfall_scenario::{ContactParams, RockShape, RockSpec};
 use rockfall_terrain::{Dem, Lattice};
 
 /// Half-width of the flat ground around the stem, m (rocks leave the scene within 4 m).
@@ -182,6 +182,20 @@ fn elevation_deg(v: V3) -> f64 {
 }
 
 impl Lab {
+    /// The laboratory of `setup` with a rock of `shape` (a file's already read into its
+    /// points) scaled to the setup's volume and density.
+    pub fn with_shape(setup: LabSetup, shape: RockShape) -> Result<Lab, LabError> {
+        // block shapes start as a sphere of the volume's diameter; every shape is then rescaled
+        let d_m = (6.0 * setup.volume_m3 / std::f64::consts::PI).cbrt();
+        let spec = RockSpec {
+            shape,
+            volume_m3: Some(setup.volume_m3),
+            ..RockSpec::sphere(d_m, setup.density_kg_m3)
+        };
+        let body = rockfall_rigid::shape::body_from_spec(&spec)?;
+        Lab::new(setup, body)
+    }
+
     /// The laboratory of `setup` with the rock `body`.
     pub fn new(setup: LabSetup, body: RockBody) -> Result<Lab, LabError> {
         setup.validate()?;

@@ -7,7 +7,7 @@
 //!   summarised per regime ([`stats`], [`summary`]) and written as `impacts.csv`,
 //!   `summary.json` and figures ([`output`]); several runs side by side ([`compare`]).
 //! - **The forest-slope shape study** (seed 001 §3.4, fig. 6): the `forest-slope-40` site run
-//!   for each rock shape, with run-out and lateral spread per shape ([`slope`]).
+//!   for each rock shape ([`study`]), with run-out and lateral spread per shape ([`slope`]).
 
 pub mod compare;
 pub mod figures;
@@ -17,6 +17,7 @@ pub mod run;
 pub mod setup;
 pub mod slope;
 pub mod stats;
+pub mod study;
 pub mod summary;
 pub mod table;
 
@@ -64,6 +65,34 @@ pub enum LabError {
     /// The slope study's simulation failed.
     #[error("shape study: {0}")]
     Study(String),
+    /// A study setting or input is unusable (bad input: the message names the flag).
+    #[error("{0}")]
+    Input(String),
+    /// A run of the study cannot start or failed.
+    #[error(transparent)]
+    Sim(#[from] rockfall_sim::SimError),
+    /// A run's outputs could not be written.
+    #[error(transparent)]
+    Report(#[from] rockfall_report::ReportError),
+}
+
+impl LabError {
+    /// True when the input is at fault (bad settings or shapes, an unreadable earlier run,
+    /// a missing folder or one we may not write to), false for an internal failure.
+    pub fn is_bad_input(&self) -> bool {
+        match self {
+            LabError::Setup(_)
+            | LabError::Shape(_)
+            | LabError::Read { .. }
+            | LabError::Input(_) => true,
+            LabError::Io { source, .. } => matches!(
+                source.kind(),
+                std::io::ErrorKind::NotFound | std::io::ErrorKind::PermissionDenied
+            ),
+            LabError::Sim(e) => e.is_bad_input(),
+            _ => false,
+        }
+    }
 }
 
 impl From<(PathBuf, std::io::Error)> for LabError {

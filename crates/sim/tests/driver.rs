@@ -135,7 +135,10 @@ fn a_stand_forest_is_expanded_from_the_overridden_seed() {
     assert!(!a.forest().is_empty());
     assert_eq!(a.forest().stems(), b.forest().stems());
     assert_ne!(a.forest().stems(), seeded(6, 5).forest().stems());
-    let (ra, rb) = (a.run(true, "", &Quiet).unwrap(), b.run(true, "", &Quiet).unwrap());
+    let (ra, rb) = (
+        a.run(true, "", &Quiet).unwrap(),
+        b.run(true, "", &Quiet).unwrap(),
+    );
     assert_eq!(fingerprint(&ra), fingerprint(&rb));
 }
 

@@ -14,9 +14,10 @@
 //! - Outputs: the terminal table, `validation.json`, `validation.md` ([`report`]) and the
 //!   fig. 2 histogram ([`figure`]).
 //!
-//! Running the engines is the caller's business (the command line does it with a progress
-//! bar); everything here works on `summary.json` values, per-rock records and slope-study
-//! statistics.
+//! [`run::run_validation`] runs it all through the driver (`rockfall_sim`), each run written
+//! as a run folder, and [`sensitivity`] reruns each site with one unknown of the
+//! reconstruction or one rule of ours moved; the comparisons work on `summary.json` values,
+//! per-rock records and slope-study statistics.
 
 pub mod case;
 pub mod fair;
@@ -25,6 +26,8 @@ pub mod measure;
 pub mod metrics;
 pub mod observed;
 pub mod report;
+pub mod run;
+pub mod sensitivity;
 pub mod shapes;
 
 pub use case::{CaseReport, Check, GroupRmse, Row};
@@ -53,6 +56,29 @@ pub enum ValidationError {
     /// Nothing to draw or compare.
     #[error("{0}")]
     Empty(String),
+    /// A case the validation does not know (bad input).
+    #[error("{0}")]
+    UnknownCase(String),
+    /// A built-in site cannot be built.
+    #[error(transparent)]
+    Site(#[from] rockfall_sites::SiteError),
+    /// A run cannot start or failed.
+    #[error(transparent)]
+    Sim(#[from] rockfall_sim::SimError),
+    /// A run's outputs could not be written.
+    #[error(transparent)]
+    Report(#[from] rockfall_report::ReportError),
+    /// The shape study failed.
+    #[error(transparent)]
+    Lab(#[from] rockfall_lab::LabError),
+}
+
+impl ValidationError {
+    /// True when the input is at fault (an unknown case), false for an internal failure:
+    /// every other input of a validation is built in.
+    pub fn is_bad_input(&self) -> bool {
+        matches!(self, ValidationError::UnknownCase(_))
+    }
 }
 
 /// Writes `validation.json` and `validation.md` into `out_dir` (atomically); returns their

@@ -5,11 +5,10 @@
 //! at each end of its plausible range, so that a reader sees which rows the reconstruction
 //! decides and which the model does.
 
-use crate::Failure;
-use crate::simulate;
+use crate::{CaseReport, SensitivityRow, ValidationError, fair, measure, published};
 use rockfall_scenario::Scenario;
+use rockfall_sim::{Observer, Overrides, Simulation};
 use rockfall_sites::vaujany::{self, Site, Unknowns};
-use rockfall_validation::{CaseReport, SensitivityRow, fair, measure, published};
 
 /// How one run differs from the default reconstruction.
 struct Variant {
@@ -58,13 +57,15 @@ fn variants(site: Site) -> Vec<Variant> {
     v
 }
 
-/// Runs every variant of the sites among `names` with `rocks` rocks each.
+/// Runs every variant of the sites among `names` with `rocks` rocks each, telling
+/// `observer` about each run.
 pub fn sensitivity(
     names: &[&str],
     rocks: u64,
     seed: u64,
     threads: usize,
-) -> Result<Vec<SensitivityRow>, Failure> {
+    observer: &dyn Observer,
+) -> Result<Vec<SensitivityRow>, ValidationError> {
     let mut rows = Vec::new();
     for &name in names {
         let site = match name {
@@ -79,10 +80,7 @@ pub fn sensitivity(
             continue;
         };
         for v in variants(site) {
-            let mut s: Scenario = vaujany::build_observed_with(site, &v.unknowns)
-                .map_err(|e| Failure::Internal(e.into()))?;
-            s.simulation.rocks_per_cell = rocks;
-            s.seed = seed;
+            let mut s: Scenario = vaujany::build_observed_with(site, &v.unknowns)?;
             s.output.rocks_csv = true;
             s.output.trajectories = 0;
             if let Some(t) = v.tilt {
@@ -94,10 +92,14 @@ pub fn sensitivity(
             if let Some(k) = v.rn_scale {
                 s.lumped.rn_velocity_scale_ms = k;
             }
-            let forest = s.build_forest().map_err(|e| Failure::Internal(e.into()))?;
-            let forest = (!forest.is_empty()).then_some(&forest);
+            let overrides = Overrides {
+                seed: Some(seed),
+                rocks_per_cell: Some(rocks),
+                threads: Some(threads),
+                ..Overrides::default()
+            };
             let label = format!("{name} sensitivity: {} {}", v.unknown, v.setting);
-            let results = simulate::simulate(&s, forest, threads, &label)?;
+            let results = Simulation::new(s, &overrides)?.run(true, &label, observer)?;
             let simulated =
                 measure::slope_quantities(&results.summary_json(), results.rock_records());
             let mut case = CaseReport::compare(&table2, "lumped", results.rocks(), &simulated);

@@ -1,0 +1,138 @@
+//! Seed 001's forest-slope shape study run end to end: one rigid run per rock shape on a
+//! scenario, each written as a run folder, then reduced by [`crate::slope`].
+
+use crate::LabError;
+use crate::slope::{FallLine, SlopeRun, Study, write_study};
+use rockfall_forest::Forest;
+use rockfall_report::ReportInput;
+use rockfall_rigid::shape::body_from_spec;
+use rockfall_scenario::{Engine, RockShape, Scenario};
+use rockfall_sim::Observer;
+use std::path::Path;
+
+/// What a shape study runs.
+#[derive(Debug, Clone)]
+pub struct ShapeStudy {
+    /// One run per shape, labelled; the labels name the runs' folders and must differ.
+    pub shapes: Vec<(String, RockShape)>,
+    /// Rocks per release point and per source cell.
+    pub rocks: u64,
+    /// Interval at which every rock's path is recorded, s.
+    pub interval_s: f64,
+    /// Worker threads.
+    pub threads: usize,
+    /// What was read, for the reports: a file, a folder, a built-in site.
+    pub input: String,
+    /// The command line, for the reports.
+    pub command: String,
+}
+
+/// Runs `study` on `base` (its seed already final) with `forest`, writes each shape's run
+/// into `out/<label>` and the study into `out`; returns the study and its runs.
+///
+/// Every shape is checked, and the labels must differ, before anything runs.
+pub fn run_shape_study(
+    base: &Scenario,
+    forest: &Forest,
+    study: &ShapeStudy,
+    out: &Path,
+    observer: &dyn Observer,
+) -> Result<(Study, Vec<SlopeRun>), LabError> {
+    if !(study.interval_s.is_finite() && study.interval_s > 0.0) {
+        return Err(LabError::Input(
+            "--interval-s must be finite and > 0".into(),
+        ));
+    }
+    let mut base = base.clone();
+    base.engine = Engine::Rigid;
+    base.simulation.rocks_per_point = study.rocks;
+    base.simulation.rocks_per_cell = study.rocks;
+    base.output.trajectory_interval_s = study.interval_s;
+    base.output.trajectories = u64::MAX; // every rock's path
+    let line = fall_line(&base)?;
+    let scenarios = shape_scenarios(&base, &study.shapes)?;
+    let stems = (!forest.is_empty()).then_some(forest);
+    let mut runs = Vec::new();
+    for (label, sc) in &scenarios {
+        let results = rockfall_sim::run_observed(sc, stems, study.threads, label, observer)?;
+        let input = ReportInput {
+            scenario: sc,
+            results: &results,
+            stems: stems.map_or(&[], |f| f.stems()),
+            input: study.input.clone(),
+            command: study.command.clone(),
+            files: Vec::new(),
+            forest_effect: None,
+            links: Vec::new(),
+            label: format!("shape {label}"),
+        };
+        let dir = out.join(label);
+        let files = rockfall_report::write_run(&dir, false, &input)?;
+        observer.wrote(&dir, &files);
+        runs.push(SlopeRun::new(label, &results));
+    }
+    let written = write_study(out, &runs, &line)?;
+    Ok((written, runs))
+}
+
+/// `base` once per shape of `shapes` (at `base`'s rock volume), labelled; every shape is
+/// checked, and labels must differ (each names its output folder).
+fn shape_scenarios(
+    base: &Scenario,
+    shapes: &[(String, RockShape)],
+) -> Result<Vec<(String, Scenario)>, LabError> {
+    if shapes.is_empty() {
+        return Err(LabError::Input("--shapes: give at least one shape".into()));
+    }
+    let volume_m3 = match base.rock.volume_m3 {
+        Some(v) => v,
+        None => body_from_spec(&base.rock)?.geometry.volume_m3,
+    };
+    let mut out: Vec<(String, Scenario)> = Vec::new();
+    for (label, shape) in shapes {
+        if out.iter().any(|(l, _)| l == label) {
+            return Err(LabError::Input(format!(
+                "--shapes: `{label}` twice (each shape's run goes to a folder of its name)"
+            )));
+        }
+        let mut sc = base.clone();
+        sc.rock.shape = shape.clone();
+        sc.rock.volume_m3 = Some(volume_m3);
+        body_from_spec(&sc.rock).map_err(|e| LabError::Input(format!("--shapes {label}: {e}")))?;
+        out.push((label.clone(), sc));
+    }
+    Ok(out)
+}
+
+/// The fall line at the first release of `s`.
+fn fall_line(s: &Scenario) -> Result<FallLine, LabError> {
+    let dem = &s.terrain.dem;
+    let xy = match (s.release.points.first(), s.release.cells.first()) {
+        (Some(p), _) => [p.x_m, p.y_m],
+        (None, Some(&cell)) => {
+            let g = dem.geometry();
+            let (row, col) = g.row_col(cell);
+            let (x, y) = g.cell_center(row, col);
+            [x, y]
+        }
+        (None, None) => return Err(LabError::Input("the scenario releases no rocks".into())),
+    };
+    dem.surface_at(xy[0], xy[1])
+        .and_then(|p| FallLine::new(xy, p.dzdx, p.dzdy))
+        .ok_or_else(|| {
+            LabError::Input(format!(
+                "the ground at the release ({:.1}, {:.1}) is flat or off the DEM: no fall line",
+                xy[0], xy[1]
+            ))
+        })
+}
+
+/// A short name for a shape as given on the command line: its name, or a file's stem.
+pub fn shape_label(shape: &str) -> String {
+    match RockShape::parse(shape) {
+        Ok(RockShape::File(p)) => p
+            .file_stem()
+            .map_or_else(|| shape.to_string(), |s| s.to_string_lossy().into()),
+        _ => shape.to_ascii_lowercase(),
+    }
+}

@@ -1,0 +1,265 @@
+//! `rockfall validate` end to end: the published-experiment runs, compared and written.
+//!
+//! Each Vaujany site runs as the experiments observed it (cut below the last observation,
+//! `vaujany::build_observed`) on the lumped engine and is compared with every published case
+//! of that site (table 2, the table 3 screens); forest-slope-40 runs seed 001's shape study
+//! and checks its findings; then the sensitivity table ([`crate::sensitivity`]). Every run
+//! goes through the driver (`rockfall_sim`) and is written as a run folder of its own.
+
+use crate::figure::{FIG2_FILE, tree_impacts_figure};
+use crate::shapes::{SHAPES, shape_case};
+use crate::{CaseReport, Meta, ValidationError, fair, measure, published, write_reports};
+use rockfall_lab::study::{ShapeStudy, run_shape_study};
+use rockfall_report::ReportInput;
+use rockfall_scenario::{LumpedSettings, MohMode, RockShape, Scenario};
+use rockfall_sim::{Observer, Overrides, Simulation};
+use rockfall_sites::vaujany::{self, Site};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The runs `validate` knows, in the order it runs them.
+pub const CASES: [&str; 3] = ["vaujany-site1", "vaujany-site2", "forest-slope-40"];
+
+/// Rocks per Vaujany site as in seed 000 (§2.6) and per shape as in seed 001 (§3.4).
+pub const ROCKS: (u64, u64) = (10_000, 500);
+/// Rocks per Vaujany site and per shape of a quick validation.
+pub const QUICK_ROCKS: (u64, u64) = (1000, 30);
+
+/// What a validation runs.
+#[derive(Debug, Clone)]
+pub struct Validate {
+    /// The runs, among [`CASES`], in running order.
+    pub cases: Vec<&'static str>,
+    /// Rocks per Vaujany site.
+    pub site_rocks: u64,
+    /// Rocks per shape of the shape study.
+    pub shape_rocks: u64,
+    /// Master seed of every run.
+    pub seed: u64,
+    /// Worker threads.
+    pub threads: usize,
+    /// The command line, for the reports.
+    pub command: String,
+}
+
+impl Validate {
+    /// The runs `names` asks for (none: all) in running order; an unknown name is an error.
+    pub fn select(names: &[String]) -> Result<Vec<&'static str>, ValidationError> {
+        if let Some(bad) = names.iter().find(|c| !CASES.contains(&c.as_str())) {
+            return Err(ValidationError::UnknownCase(format!(
+                "unknown case `{bad}` (known: {})",
+                CASES.join(", ")
+            )));
+        }
+        Ok(CASES
+            .into_iter()
+            .filter(|c| names.is_empty() || names.iter().any(|a| a == c))
+            .collect())
+    }
+}
+
+/// A validation's outcome: the compared cases, what was run, and the files written.
+#[derive(Debug, Clone)]
+pub struct Validation {
+    /// Every case compared.
+    pub cases: Vec<CaseReport>,
+    /// Seed, threads, settings, figures, sensitivity table.
+    pub meta: Meta,
+    /// `validation.json`, `validation.md` and the figures.
+    pub files: Vec<PathBuf>,
+}
+
+/// Runs `v` into `out` and writes `validation.json`, `validation.md` and the figures.
+pub fn run_validation(
+    v: &Validate,
+    out: &Path,
+    observer: &dyn Observer,
+) -> Result<Validation, ValidationError> {
+    let started = Instant::now();
+    let mut cases = Vec::new();
+    let mut meta = Meta {
+        seed: v.seed,
+        threads: v.threads,
+        wall_time_s: 0.0,
+        command: v.command.clone(),
+        settings: Vec::new(),
+        figures: Vec::new(),
+        sensitivity: Vec::new(),
+    };
+    for &name in &v.cases {
+        if name == "forest-slope-40" {
+            cases.push(shape_study_case(name, v, out, observer)?);
+            meta.settings.push(format!(
+                "rigid: built-in {name}, shapes {}, the scenario's contact laws",
+                SHAPES.join(", ")
+            ));
+            meta.figures.push((
+                "Trajectories per shape coloured by total energy (cf. seed 001 fig. 6)".into(),
+                format!("{name}/trajectories_plan.png"),
+            ));
+        } else {
+            let (site_cases, settings) = vaujany_cases(name, v, out, &mut meta, observer)?;
+            cases.extend(site_cases);
+            if !meta.settings.contains(&settings) {
+                meta.settings.push(settings);
+            }
+        }
+    }
+    // the sensitivity table: a fifth of the rocks per run (at least 200)
+    let rocks = (v.site_rocks / 5).max(200);
+    meta.sensitivity =
+        crate::sensitivity::sensitivity(&v.cases, rocks, v.seed, v.threads, observer)?;
+    meta.wall_time_s = started.elapsed().as_secs_f64();
+    let mut files = write_reports(out, &cases, &meta)?;
+    files.extend(meta.figures.iter().map(|(_, f)| out.join(f)));
+    Ok(Validation { cases, meta, files })
+}
+
+/// Runs a Vaujany site as the experiments observed it on the lumped engine, writes its
+/// outputs in `out/<name>` and compares it with every published case of that site (table 2,
+/// table 3 screens); the fig. 2 histogram for a forested site. Returns the cases and the
+/// engine settings in a line.
+fn vaujany_cases(
+    name: &str,
+    v: &Validate,
+    out: &Path,
+    meta: &mut Meta,
+    observer: &dyn Observer,
+) -> Result<(Vec<CaseReport>, String), ValidationError> {
+    let site = match name {
+        "vaujany-site1" => Site::One,
+        _ => Site::Two,
+    };
+    let mut scenario: Scenario = vaujany::build_observed(site)?;
+    scenario.output.rocks_csv = true;
+    let overrides = Overrides {
+        seed: Some(v.seed),
+        rocks_per_cell: Some(v.site_rocks),
+        threads: Some(v.threads),
+        ..Overrides::default()
+    };
+    let sim = Simulation::new(scenario, &overrides)?;
+    let (scenario, forest) = (sim.scenario(), sim.stems());
+    let results = sim.run(true, name, observer)?;
+    let input = ReportInput {
+        scenario,
+        results: &results,
+        stems: forest.map_or(&[], |f| f.stems()),
+        input: format!(
+            "built-in site {name}, cut where the experiments observed (rockfall validate)"
+        ),
+        command: v.command.clone(),
+        files: Vec::new(),
+        forest_effect: None,
+        links: Vec::new(),
+        label: String::new(),
+    };
+    let dir = out.join(name);
+    let files = rockfall_report::write_run(&dir, false, &input)?;
+    observer.wrote(&dir, &files);
+    let summary = results.summary_json();
+    let records = results.rock_records();
+    let site_published: Vec<_> = published().into_iter().filter(|p| p.site == name).collect();
+    let site_rocks = site_published.iter().find_map(|p| p.observed_rocks);
+    let mut cases = Vec::new();
+    for p in &site_published {
+        let simulated = match p.screen {
+            None => measure::slope_quantities(&summary, records),
+            Some(screen) => measure::screen_quantities(&summary, screen),
+        };
+        let mut case = CaseReport::compare(p, "lumped", results.rocks(), &simulated);
+        if let Some(n) = site_rocks {
+            let at = p
+                .screen
+                .map(|name| scenario.screens.iter().position(|s| s.name == name));
+            let maxima = match at {
+                None => fair::group_maxima(&results, None, n),
+                Some(Some(i)) => fair::group_maxima(&results, Some(i), n),
+                Some(None) => BTreeMap::new(), // a screen the site does not have
+            };
+            case.add_fair(&maxima, n);
+        }
+        if let Some(n) = p.observed_rocks
+            && let Some((vmax, h)) = measure::per_rock_quantile_of_max(records, n)
+        {
+            case.notes.push(format!(
+                "the maxima are over {} simulated rocks, the observed ones over {}; the largest \
+                 of {} rocks is, in expectation, near the per-rock {:.0}th percentile: {vmax:.1} \
+                 m/s and {h:.2} m here",
+                results.rocks(),
+                n,
+                n,
+                100.0 * (1.0 - 1.0 / (f64::from(n) + 1.0))
+            ));
+        }
+        cases.push(case);
+    }
+    let trees = (site_published.iter())
+        .flat_map(|p| &p.quantities)
+        .find(|q| q.key == "tree_impacts_per_rock");
+    if let (Some(q), Some(_)) = (trees, forest) {
+        let counts = measure::tree_impact_counts(records);
+        tree_impacts_figure(&out.join(FIG2_FILE), name, &counts, q.observed, q.rockyfor)?;
+        meta.figures.push((
+            format!("{name}: tree impacts per rock (cf. seed 000 fig. 2)"),
+            FIG2_FILE.to_string(),
+        ));
+    }
+    Ok((cases, lumped_settings(&scenario.lumped)))
+}
+
+/// The lumped engine's settings in a line.
+fn lumped_settings(l: &LumpedSettings) -> String {
+    let moh = match l.moh {
+        MohMode::Draw => "drawn 70/20/10 %",
+        MohMode::Mean => "the eq. 4 mean",
+    };
+    format!(
+        "lumped: tangential rebound law {}, MOH {moh} per rebound, r_t ± {} %, slope lowered by \
+         up to {}°, r_n / (1 + (v_n/{} m/s)²), roughness tilt × {}, lateral deviation ≤ {}°, \
+         lift-off above {} × MOH, stop below {} m/s",
+        l.tangential.name(),
+        100.0 * l.rt_variation,
+        l.slope_reduction_max_deg,
+        l.rn_velocity_scale_ms,
+        l.roughness_tilt_factor,
+        l.max_lateral_deviation_deg,
+        l.lift_off_obstacle_factor,
+        l.stop_velocity_ms
+    )
+}
+
+/// Runs seed 001's shape study on the built-in forest-slope-40 into `out/<name>` and checks
+/// the paper's findings.
+fn shape_study_case(
+    name: &str,
+    v: &Validate,
+    out: &Path,
+    observer: &dyn Observer,
+) -> Result<CaseReport, ValidationError> {
+    let overrides = Overrides {
+        seed: Some(v.seed),
+        ..Overrides::default()
+    };
+    let (base, forest) = Simulation::new(rockfall_sites::build(name)?, &overrides)?.into_parts();
+    let shapes = (SHAPES.iter())
+        .map(|s| {
+            Ok((
+                s.to_string(),
+                RockShape::parse(s).map_err(ValidationError::Empty)?,
+            ))
+        })
+        .collect::<Result<Vec<_>, ValidationError>>()?;
+    let study = ShapeStudy {
+        shapes,
+        rocks: v.shape_rocks,
+        interval_s: 0.05,
+        threads: v.threads,
+        input: "built-in site forest-slope-40 (rockfall shape-study)".into(),
+        command: v.command.clone(),
+    };
+    let (study, runs) = run_shape_study(&base, &forest, &study, &out.join(name), observer)?;
+    let summaries: Vec<_> = runs.iter().map(|r| r.summary.clone()).collect();
+    Ok(shape_case(name, &study.stats, &summaries, v.shape_rocks))
+}
