@@ -7,10 +7,13 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rockfall_forest::Forest;
 use rockfall_lumped::{LumpedModel, RunOptions};
 use rockfall_report::ReportInput;
-use rockfall_results::{ForestEffect, Layout, Results, RunInfo};
+use rockfall_results::{
+    ForestEffect, Layout, LegacySolver, LumpedParameters, Parameters, Results, RigidParameters,
+    RunInfo, RunSize,
+};
 use rockfall_rigid::RigidModel;
 use rockfall_scenario::{Engine, Scenario};
-use serde_json::{Value, json};
+use serde_json::Value;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -39,7 +42,7 @@ pub fn simulate(
     };
     let layout = Arc::new(Layout::of(scenario));
     let started = Instant::now();
-    let (tally, extra) = match scenario.engine {
+    let (tally, parameters) = match scenario.engine {
         Engine::Lumped => {
             let model = LumpedModel::new(scenario, forest)
                 .map_err(|e| bad_input(&e, &["rockdensity", "dem"]))?;
@@ -47,7 +50,10 @@ pub fn simulate(
                 model.run(layout.clone(), opts)
             })
             .map_err(|e| Failure::Internal(e.into()))?;
-            (tally, lumped_parameters(scenario, &model))
+            (
+                tally,
+                Parameters::Lumped(lumped_parameters(scenario, &model)),
+            )
         }
         Engine::Rigid => {
             let model = RigidModel::new(scenario, forest)
@@ -56,7 +62,7 @@ pub fn simulate(
                 model.run(layout.clone(), opts)
             })
             .map_err(|e| Failure::Internal(e.into()))?;
-            (tally, rigid_parameters(scenario, &model))
+            (tally, Parameters::Rigid(rigid_parameters(scenario, &model)))
         }
     };
     let info = RunInfo {
@@ -65,7 +71,7 @@ pub fn simulate(
         seed: scenario.seed,
         threads,
         wall_time_s: started.elapsed().as_secs_f64(),
-        extra,
+        parameters,
     };
     Ok(Results::new(&layout, tally, info))
 }
@@ -125,72 +131,37 @@ pub fn long_run_warning(rocks: u64, done: u64, elapsed_s: f64) -> Option<String>
 }
 
 /// Engine parameters of a lumped run recorded in `summary.json`.
-fn lumped_parameters(
-    scenario: &Scenario,
-    model: &LumpedModel<'_>,
-) -> serde_json::Map<String, Value> {
-    let l = &scenario.lumped;
+fn lumped_parameters(scenario: &Scenario, model: &LumpedModel<'_>) -> LumpedParameters {
     let first = model.sources().first();
-    let v = json!({
-        "moh": l.moh.name(),
-        "tangential_law": l.tangential.name(),
-        "rt_variation": l.rt_variation,
-        "slope_reduction_max_deg": l.slope_reduction_max_deg,
-        "max_lateral_deviation_deg": l.max_lateral_deviation_deg,
-        "stop_velocity_ms": l.stop_velocity_ms,
-        "rn_velocity_scale_ms": l.rn_velocity_scale_ms,
-        "roughness_tilt_factor": l.roughness_tilt_factor,
-        "lift_off_obstacle_factor": l.lift_off_obstacle_factor,
-        "max_time_s": scenario.simulation.max_time_s,
-        "rocks_per_cell": scenario.simulation.rocks_per_cell,
-        "rocks_per_point": scenario.simulation.rocks_per_point,
-        "source_cells": scenario.release.cells.len(),
-        "release_points": scenario.release.points.len(),
-        "stems": model.stems(),
-        "rock_mass_kg": first.map(|s| s.body.mass_kg),
-        "rock_radius_m": first.map(|s| s.body.radius_m),
-        "tree_energy_units": "seed 000 eq. 2 read as joules (DBH in cm)",
-    });
-    object(v)
+    LumpedParameters {
+        settings: scenario.lumped.clone(),
+        size: RunSize::of(scenario, model.stems()),
+        rock_mass_kg: first.map(|s| s.body.mass_kg),
+        rock_radius_m: first.map(|s| s.body.radius_m),
+        tree_energy_units: "seed 000 eq. 2 read as joules (DBH in cm)".into(),
+    }
 }
 
 /// Engine parameters of a rigid run recorded in `summary.json`.
-fn rigid_parameters(scenario: &Scenario, model: &RigidModel<'_>) -> serde_json::Map<String, Value> {
+fn rigid_parameters(scenario: &Scenario, model: &RigidModel<'_>) -> RigidParameters {
     let b = model.body();
     let g = &b.geometry;
-    let c = &scenario.contact;
-    let st = model.settings();
-    let law = |p: &rockfall_scenario::ContactParams| json!({"mu": p.mu, "eps_n": p.eps_n, "eps_t": p.eps_t});
-    let v = json!({
-        "rock_shape": scenario.rock.shape.describe(),
-        "rock_vertices": g.vertices_m.len(),
-        "rock_volume_m3": g.volume_m3,
-        "rock_mass_kg": b.mass_kg,
-        "rock_inertia_kgm2": [b.inertia_kgm2.x, b.inertia_kgm2.y, b.inertia_kgm2.z],
-        "rock_lengths_m": g.lengths_m,
-        "rock_aspect_ratio": g.aspect_ratio(),
-        "rock_class": g.class().name(),
-        "contact_ground": law(&c.ground),
-        "contact_tree": law(&c.tree),
-        "slippage": c.slippage.map(|s| json!({"mu_min": s.mu_min, "mu_max": s.mu_max, "beta_per_s": s.beta_per_s, "kappa_per_m": s.kappa_per_m})),
-        "dt_s": scenario.simulation.dt_s,
-        "max_time_s": scenario.simulation.max_time_s,
-        "rocks_per_cell": scenario.simulation.rocks_per_cell,
-        "rocks_per_point": scenario.simulation.rocks_per_point,
-        "source_cells": scenario.release.cells.len(),
-        "release_points": scenario.release.points.len(),
-        "stems": model.stems(),
-        "solver": {"alpha": st.solver.alpha, "tolerance_ms": st.solver.tolerance_ms, "max_iterations": st.solver.max_iterations, "warm_start": st.solver.warm_start},
-        "stop_speed_ms": st.stop.stop_speed_ms,
-        "rest_time_s": st.stop.rest_time_s,
-    });
-    object(v)
-}
-
-fn object(v: Value) -> serde_json::Map<String, Value> {
-    match v {
-        Value::Object(m) => m,
-        _ => serde_json::Map::new(),
+    RigidParameters {
+        rock_shape: scenario.rock.shape.describe(),
+        rock_vertices: g.vertices_m.len() as u64,
+        rock_volume_m3: g.volume_m3,
+        rock_mass_kg: b.mass_kg,
+        rock_inertia_kgm2: [b.inertia_kgm2.x, b.inertia_kgm2.y, b.inertia_kgm2.z],
+        rock_lengths_m: g.lengths_m,
+        rock_aspect_ratio: g.aspect_ratio(),
+        rock_class: g.class().name().into(),
+        contact_ground: scenario.contact.ground,
+        contact_tree: scenario.contact.tree,
+        slippage: scenario.contact.slippage,
+        dt_s: scenario.simulation.dt_s,
+        size: RunSize::of(scenario, model.stems()),
+        settings: scenario.rigid,
+        solver: LegacySolver::from(&scenario.rigid),
     }
 }
 
