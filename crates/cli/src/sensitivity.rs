@@ -98,8 +98,7 @@ pub fn sensitivity(
             let forest = (!forest.is_empty()).then_some(&forest);
             let label = format!("{name} sensitivity: {} {}", v.unknown, v.setting);
             let results = simulate::simulate(&s, forest, threads, &label)?;
-            let simulated =
-                measure::slope_quantities(&results.summary_json(), results.rock_records());
+            let simulated = measure::slope_quantities(&results.summary(), results.rock_records());
             let mut case = CaseReport::compare(&table2, "lumped", results.rocks(), &simulated);
             if let Some(n) = table2.observed_rocks {
                 case.add_fair(&fair::group_maxima(&results, None, n), n);

@@ -160,7 +160,7 @@ fn vaujany_cases(
         false,
         &simulate::Context::new(&scenario, forest, input),
     )?;
-    let summary = results.summary_json();
+    let summary = results.summary();
     let records = results.rock_records();
     let site_published: Vec<_> = published().into_iter().filter(|p| p.site == name).collect();
     let site_rocks = site_published.iter().find_map(|p| p.observed_rocks);

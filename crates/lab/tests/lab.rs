@@ -332,7 +332,7 @@ fn slope_offsets_are_along_and_to_the_left_of_the_fall_line() {
     };
     let run = SlopeRun {
         label: "test".into(),
-        summary: serde_json::Value::Null,
+        summary: rockfall_results::Summary::default(),
         paths: vec![
             path(vec![[10.0, 20.0], [11.0, 15.0]]),
             path(vec![[10.0, 20.0], [14.0, 15.0], [13.0, 10.0]]),

@@ -15,8 +15,8 @@
 //!   fig. 2 histogram ([`figure`]).
 //!
 //! Running the engines is the caller's business (the command line does it with a progress
-//! bar); everything here works on `summary.json` values, per-rock records and slope-study
-//! statistics.
+//! bar); everything here works on run summaries (`rockfall_results::Summary`, as in
+//! `summary.json`), per-rock records and slope-study statistics.
 
 pub mod case;
 pub mod fair;
