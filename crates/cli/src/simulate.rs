@@ -6,10 +6,9 @@ use anyhow::anyhow;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rockfall_forest::Forest;
 use rockfall_report::ReportInput;
-use rockfall_results::{ForestEffect, Results};
+use rockfall_results::{ForestEffect, ForestEffectSummary, Results};
 use rockfall_scenario::Scenario;
 use rockfall_sim::{Observer, Overrides, SimError, Simulation};
-use serde_json::Value;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -233,55 +232,58 @@ pub fn write(results: &Results, out: &Path, ascii: bool, ctx: &Context<'_>) -> R
     Ok(())
 }
 
+/// `x` with two decimals, `–` when undefined.
+fn two_decimals(x: Option<f64>) -> String {
+    x.map_or("–".to_string(), |x| format!("{x:.2}"))
+}
+
+/// A fraction as a percentage with one decimal, `–` when undefined.
+fn percent(x: Option<f64>) -> String {
+    x.map_or("–".to_string(), |x| format!("{:.1} %", x * 100.0))
+}
+
 /// Prints the headline numbers of a run.
 pub fn print_summary(title: &str, results: &Results) {
-    let s = results.summary_json();
-    let f = |v: &Value| v.as_f64().map_or("–".to_string(), |x| format!("{x:.2}"));
-    let pct = |v: &Value| {
-        v.as_f64()
-            .map_or("–".to_string(), |x| format!("{:.1} %", x * 100.0))
-    };
+    let s = results.summary();
+    let f = two_decimals;
     println!("{title}");
     println!(
         "  {} rocks in {:.2} s ({:.0} trajectories/s on {} threads)",
-        s["rocks"],
-        s["wall_time_s"].as_f64().unwrap_or(0.0),
-        s["trajectories_per_s"].as_f64().unwrap_or(0.0),
-        s["threads"]
+        s.rocks,
+        s.wall_time_s.unwrap_or(0.0),
+        s.trajectories_per_s.unwrap_or(0.0),
+        s.threads
     );
     println!(
         "  stopped {}, left the DEM {}",
-        pct(&s["stopped_fraction"]),
-        pct(&s["left_dem_fraction"])
+        percent(s.stopped_fraction),
+        percent(s.left_dem_fraction)
     );
-    let r = &s["runout_m"];
+    let r = &s.runout_m;
     println!(
         "  run-out p50 {} m, p95 {} m, max {} m",
-        f(&r["p50"]),
-        f(&r["p95"]),
-        f(&r["max"])
+        f(r.p50),
+        f(r.p95),
+        f(r.max)
     );
-    let v = &s["max_velocity_ms"];
-    let h = &s["max_jump_height_m"];
+    let (v, h) = (&s.max_velocity_ms, &s.max_jump_height_m);
     println!(
         "  max velocity mean {} m/s, max {} m/s; jump height mean {} m, max {} m",
-        f(&v["mean"]),
-        f(&v["max"]),
-        f(&h["mean"]),
-        f(&h["max"])
+        f(v.mean),
+        f(v.max),
+        f(h.mean),
+        f(h.max)
     );
-    println!("  tree impacts per rock {}", f(&s["tree_impacts_per_rock"]));
-    if let Some(screens) = s["screens"].as_array() {
-        for sc in screens {
-            println!(
-                "  screen {}: passed {}, v mean {} m/s, E p95 {} kJ, jump p95 {} m",
-                sc["name"].as_str().unwrap_or("?"),
-                pct(&sc["passed_fraction"]),
-                f(&sc["velocity_ms"]["mean"]),
-                f(&sc["energy_kj"]["p95"]),
-                f(&sc["jump_height_m"]["p95"])
-            );
-        }
+    println!("  tree impacts per rock {}", f(s.tree_impacts_per_rock));
+    for sc in &s.screens {
+        println!(
+            "  screen {}: passed {}, v mean {} m/s, E p95 {} kJ, jump p95 {} m",
+            sc.name,
+            percent(sc.passed_fraction),
+            f(sc.velocity_ms.mean),
+            f(sc.energy_kj.p95),
+            f(sc.jump_height_m.p95)
+        );
     }
 }
 
@@ -322,7 +324,7 @@ pub fn demo(out: &Path) -> Result<(), Failure> {
     write(&without, &bare, ascii, &ctx)?;
     print_summary("with forest:", &with);
     print_summary("without forest:", &without);
-    print_effect(&effect.summary_json());
+    print_effect(effect.summary());
     println!(
         "outputs: {} (with forest), {} (without), forest effect in {}",
         out.display(),
@@ -333,23 +335,24 @@ pub fn demo(out: &Path) -> Result<(), Failure> {
     Ok(())
 }
 
-fn print_effect(e: &Value) {
+/// Prints the headline numbers of the forest's effect.
+fn print_effect(e: &ForestEffectSummary) {
     println!("forest effect (with − without):");
-    for (key, label, unit) in [
-        ("stopped_fraction", "stopped", ""),
-        ("left_dem_fraction", "left the DEM", ""),
+    for (d, label) in [
+        (&e.stopped_fraction, "stopped"),
+        (&e.left_dem_fraction, "left the DEM"),
     ] {
-        if let Some(d) = e[key]["difference"].as_f64() {
-            println!("  {label}: {:+.1} percentage points{unit}", d * 100.0);
+        if let Some(d) = d.difference {
+            println!("  {label}: {:+.1} percentage points", d * 100.0);
         }
     }
-    if let Some(d) = e["runout_p95_m"]["difference"].as_f64() {
+    if let Some(d) = e.runout_p95_m.difference {
         println!("  run-out p95: {d:+.1} m");
     }
-    if let Some(d) = e["reach_probability_pp"]["mean_difference"].as_f64() {
+    if let Some(d) = e.reach_probability_pp.cells.mean_difference {
         println!("  reach probability, mean over reached cells: {d:+.2} percentage points");
     }
-    if let Some(d) = e["e_95_kj"]["mean_difference"].as_f64() {
+    if let Some(d) = e.e_95_kj.mean_difference {
         println!("  E_95, mean over reached cells: {d:+.1} kJ");
     }
 }

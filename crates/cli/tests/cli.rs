@@ -166,6 +166,31 @@ fn rigid_engine_runs_forest_slope_40_end_to_end_and_validates_its_input() {
     assert_eq!(summary["engine"], "rigid");
     assert_eq!(summary["rocks"], 2);
     assert_eq!(summary["parameters"]["rock_class"], "cubic");
+    // the file reads back as a typed summary; the `[rigid]` settings under their scenario
+    // keys, and again in the old `solver` object
+    let typed = common::typed_summary(&out.path().join("summary.json"));
+    let rockfall_results::Parameters::Rigid(p) = &typed.parameters else {
+        panic!("not rigid: {:?}", typed.parameters)
+    };
+    assert_eq!(p.size.rocks_per_point, 2);
+    let parameters = &summary["parameters"];
+    for (new, old) in [
+        ("solver_alpha", "alpha"),
+        ("solver_tolerance_ms", "tolerance_ms"),
+        ("solver_max_iterations", "max_iterations"),
+        ("warm_start", "warm_start"),
+    ] {
+        assert_eq!(parameters[new], parameters["solver"][old], "{new}");
+    }
+    for key in [
+        "max_speed_ms",
+        "linear_damping_per_s",
+        "angular_damping_per_s",
+        "stop_speed_ms",
+        "rest_time_s",
+    ] {
+        assert!(parameters[key].is_number(), "{key}");
+    }
     let runout = summary["runout_m"]["max"].as_f64().unwrap();
     assert!(
         runout > 5.0,

@@ -7,9 +7,10 @@
 
 mod common;
 
-use common::{ok, rockfall, s};
+use common::{ok, rockfall, s, typed_summary};
 
 use rockfall_raster::{Grid, read_grid};
+use rockfall_results::Parameters;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use tempfile::TempDir;
@@ -154,6 +155,13 @@ fn run_writes_every_product_output() {
         &["--rocks-per-cell", "300", "--threads", "2"],
     );
     check_summary(&sum, 300, 2, 1, 3);
+    // the file reads back as a typed summary, with the lumped engine's parameters
+    let typed = typed_summary(&out.join("summary.json"));
+    let Parameters::Lumped(p) = &typed.parameters else {
+        panic!("not lumped: {:?}", typed.parameters)
+    };
+    assert_eq!(p.size.rocks_per_cell, 300);
+    assert_eq!(typed.rocks, 300);
     check_trajectories(&out);
     let dem = dem(&dir);
     let grids = check_rasters(&out, "tif", &dem);

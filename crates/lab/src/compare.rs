@@ -3,25 +3,25 @@
 
 use crate::LabError;
 use crate::figures::figures;
-use crate::output::write_json;
-use crate::summary::{Labelled, regime_table, regimes_json};
+use crate::output::{LabSummary, write_json};
+use crate::summary::{Labelled, Regimes, regime_table};
 use crate::table::read_metrics;
 use rockfall_raster::atomic::write_bytes_atomic;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 
-/// Reads the run in `dir` (its `impacts.csv`, and its shape from `summary.json`, else the
-/// folder's name).
+/// Reads the run in `dir`: its `impacts.csv`, and its shape from its `summary.json` (a
+/// [`LabSummary`]), or the folder's name when it has none.
 pub fn read_run(dir: &Path) -> Result<Labelled, LabError> {
     let metrics = read_metrics(&dir.join("impacts.csv"))?;
     let summary = dir.join("summary.json");
     let label = match std::fs::read_to_string(&summary) {
         Ok(text) => {
-            let v: Value = serde_json::from_str(&text).map_err(|e| LabError::Read {
+            let s: LabSummary = serde_json::from_str(&text).map_err(|e| LabError::Read {
                 path: summary.clone(),
-                what: format!("not JSON: {e}"),
+                what: format!("not an impact-lab summary: {e}"),
             })?;
-            v["shape"].as_str().map(str::to_string)
+            Some(s.shape)
         }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
         Err(e) => return Err(LabError::from((summary, e))),
@@ -53,7 +53,7 @@ pub fn compare(
                 "dir": d.display().to_string(),
                 "shape": r.label,
                 "samples": r.metrics.len(),
-                "regimes": regimes_json(&r.metrics),
+                "regimes": Regimes::of(&r.metrics),
             })
         })
         .collect();

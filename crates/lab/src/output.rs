@@ -3,11 +3,12 @@
 use crate::LabError;
 use crate::figures::figures;
 use crate::impact::Lab;
-use crate::run::LabRun;
-use crate::summary::{Labelled, Metrics, RegimeSummary, regimes_json};
+use crate::run::{LabRun, MissCounts};
+use crate::summary::{Labelled, Metrics, RegimeReport, RegimeSummary, Regimes};
 use crate::table::write_impacts;
 use rockfall_forest::impact_type::{FRONTAL_MAX, LATERAL_MAX};
-use serde_json::{Value, json};
+use rockfall_scenario::ContactParams;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// Writes a run's outputs into `out_dir` (created if needed); returns the files written.
@@ -23,7 +24,7 @@ pub fn write_lab(
     let csv = out_dir.join("impacts.csv");
     write_impacts(&csv, &run.impacts)?;
     let json_path = out_dir.join("summary.json");
-    let summary = summary_json(shape, lab, run, seed, samples);
+    let summary = LabSummary::new(shape, lab, run, seed, samples);
     write_json(&json_path, &summary)?;
     let runs = [Labelled {
         label: shape.to_string(),
@@ -34,62 +35,187 @@ pub fn write_lab(
     Ok(files)
 }
 
-/// Writes `value` as pretty JSON with a final newline (atomically).
-pub fn write_json(path: &Path, value: &Value) -> Result<(), LabError> {
+/// Writes `value` as pretty JSON with a final newline, keys sorted (atomically).
+pub fn write_json(path: &Path, value: &impl Serialize) -> Result<(), LabError> {
     rockfall_results::write_json(path, value).map_err(LabError::from)
 }
 
-/// `summary.json` of a run (see the README for the keys).
-pub fn summary_json(shape: &str, lab: &Lab, run: &LabRun, seed: u64, samples: u64) -> Value {
-    let s = lab.setup();
-    let b = lab.body();
-    let g = &b.geometry;
-    let metrics: Vec<Metrics> = run.impacts.iter().map(Metrics::from).collect();
-    let m = &run.misses;
-    json!({
-        "experiment": "impact-lab",
-        "shape": shape,
-        "rock": {
-            "volume_m3": g.volume_m3,
-            "density_kg_m3": b.density_kg_m3,
-            "mass_kg": b.mass_kg,
-            "vertices": g.vertices_m.len(),
-            "axis_lengths_m": g.lengths_m,
-            "aspect_ratio": g.aspect_ratio(),
-            "class": g.class().name(),
-            "principal_moments_kgm2": [b.inertia_kgm2.x, b.inertia_kgm2.y, b.inertia_kgm2.z],
-            "circumradius_m": g.circumradius_m,
-        },
-        "stem": {"d0_m": s.stem_d0_m, "d1_m": s.stem_d1_m(), "h_m": s.stem_h_m},
-        "contact": {"mu": s.mu, "eps_n": s.eps_n, "eps_t": s.eps_t},
-        "setup": {
-            "release_height_m": s.release_height_m,
-            "min_axis_distance_m": s.min_axis_distance_m,
-            "lattice_side_m": s.lattice_side_m,
-            "lattice_points_per_side": s.lattice_points_per_side,
-            "orientations_per_point": s.orientations_per_point,
-            "speed_ms": [s.speed_ms.0, s.speed_ms.1],
-            "spin_rads": [s.spin_rads.0, s.spin_rads.1],
-            "theta_deg": [s.theta_deg.0, s.theta_deg.1],
-            "chi_deg": [s.chi_deg.0, s.chi_deg.1],
-            "dt_s": s.dt_s,
-            "max_time_s": s.max_time_s,
-        },
-        "zeta_ct_thresholds": {"frontal_below": FRONTAL_MAX, "scratch_from": LATERAL_MAX},
-        "seed": seed,
-        "samples_requested": samples,
-        "samples": run.impacts.len(),
-        "candidates_total": s.candidates(),
-        "candidates_tried": run.tried,
-        "hit_rate": run.impacts.len() as f64 / run.tried.max(1) as f64,
-        "misses": {
-            "wide": m.wide, "ground": m.ground, "passed": m.passed,
-            "time_limit": m.time_limit, "failed": m.failed,
-        },
-        "exhausted": run.exhausted,
-        "threads": run.threads,
-        "wall_time_s": run.wall_time_s,
-        "regimes": regimes_json(&metrics),
-        "all": RegimeSummary::of(&metrics, |_| true).json(metrics.len()),
-    })
+/// `summary.json` of an impact-lab run (see the README for the keys): the rock, stem, contact
+/// and setup, the sample drawn, and the impact metrics per regime and of all impacts.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LabSummary {
+    /// Always `impact-lab`.
+    pub experiment: String,
+    /// The rock shape (its name or file).
+    pub shape: String,
+    /// The rock.
+    pub rock: LabRock,
+    /// The stem.
+    pub stem: LabStem,
+    /// Rock–stem contact law.
+    pub contact: ContactParams,
+    /// How candidates are released.
+    pub setup: LabRelease,
+    /// Eccentricity ζ_CT bounds of the regimes.
+    pub zeta_ct_thresholds: ZetaThresholds,
+    /// Master seed.
+    pub seed: u64,
+    /// Impacts asked for.
+    pub samples_requested: u64,
+    /// Impacts sampled.
+    pub samples: u64,
+    /// Candidates of the setup.
+    pub candidates_total: u64,
+    /// Candidates tried until the sample was full.
+    pub candidates_tried: u64,
+    /// Impacts / candidates tried.
+    pub hit_rate: f64,
+    /// Candidates that missed, by reason.
+    pub misses: MissCounts,
+    /// Every candidate was tried and fewer impacts than asked for were found.
+    pub exhausted: bool,
+    /// Worker threads.
+    pub threads: u64,
+    /// Wall time, s.
+    pub wall_time_s: f64,
+    /// The metrics per regime.
+    pub regimes: Regimes,
+    /// The metrics of all impacts.
+    pub all: RegimeReport,
+}
+
+/// The rock of an impact-lab run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LabRock {
+    /// Volume, m³.
+    pub volume_m3: f64,
+    /// Density, kg/m³.
+    pub density_kg_m3: f64,
+    /// Mass, kg.
+    pub mass_kg: f64,
+    /// Vertices of its hull.
+    pub vertices: u64,
+    /// Extents along the principal axes, m.
+    pub axis_lengths_m: [f64; 3],
+    /// Aspect ratio (dimensionless).
+    pub aspect_ratio: f64,
+    /// Shape class (`cubic`, `flat`, `long`, …).
+    pub class: String,
+    /// Principal moments of inertia, kg·m².
+    pub principal_moments_kgm2: [f64; 3],
+    /// Radius of the smallest centred ball holding the rock, m.
+    pub circumradius_m: f64,
+}
+
+/// The stem of an impact-lab run: a truncated cone.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LabStem {
+    /// Diameter at the ground, m.
+    pub d0_m: f64,
+    /// Diameter at the top, m.
+    pub d1_m: f64,
+    /// Height, m.
+    pub h_m: f64,
+}
+
+/// How the candidates of an impact-lab run are released (see [`crate::LabSetup`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LabRelease {
+    /// Height of the rock centre above the plane, m.
+    pub release_height_m: f64,
+    /// Smallest horizontal distance between a release point and the stem axis, m.
+    pub min_axis_distance_m: f64,
+    /// Side of the square release lattice, m.
+    pub lattice_side_m: f64,
+    /// Lattice points per side.
+    pub lattice_points_per_side: u32,
+    /// Rocks released from each lattice point.
+    pub orientations_per_point: u32,
+    /// Release speed range, m/s.
+    pub speed_ms: [f64; 2],
+    /// Release spin range, rad/s.
+    pub spin_rads: [f64; 2],
+    /// Horizontal direction range θ, degrees.
+    pub theta_deg: [f64; 2],
+    /// Vertical direction range χ, degrees.
+    pub chi_deg: [f64; 2],
+    /// Time step, s.
+    pub dt_s: f64,
+    /// Longest simulated time of one candidate, s.
+    pub max_time_s: f64,
+}
+
+/// The eccentricity bounds of the regimes (`rockfall_forest::impact_type`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ZetaThresholds {
+    /// Frontal below this ζ_CT.
+    pub frontal_below: f64,
+    /// Scratch from this ζ_CT on.
+    pub scratch_from: f64,
+}
+
+impl LabSummary {
+    /// The summary of `run` of rocks of `shape` in `lab`, seeded with `seed`, `samples`
+    /// impacts asked for.
+    pub fn new(shape: &str, lab: &Lab, run: &LabRun, seed: u64, samples: u64) -> LabSummary {
+        let s = lab.setup();
+        let b = lab.body();
+        let g = &b.geometry;
+        let metrics: Vec<Metrics> = run.impacts.iter().map(Metrics::from).collect();
+        let pair = |(lo, hi): (f64, f64)| [lo, hi];
+        LabSummary {
+            experiment: "impact-lab".into(),
+            shape: shape.into(),
+            rock: LabRock {
+                volume_m3: g.volume_m3,
+                density_kg_m3: b.density_kg_m3,
+                mass_kg: b.mass_kg,
+                vertices: g.vertices_m.len() as u64,
+                axis_lengths_m: g.lengths_m,
+                aspect_ratio: g.aspect_ratio(),
+                class: g.class().name().into(),
+                principal_moments_kgm2: [b.inertia_kgm2.x, b.inertia_kgm2.y, b.inertia_kgm2.z],
+                circumradius_m: g.circumradius_m,
+            },
+            stem: LabStem {
+                d0_m: s.stem_d0_m,
+                d1_m: s.stem_d1_m(),
+                h_m: s.stem_h_m,
+            },
+            contact: ContactParams {
+                mu: s.mu,
+                eps_n: s.eps_n,
+                eps_t: s.eps_t,
+            },
+            setup: LabRelease {
+                release_height_m: s.release_height_m,
+                min_axis_distance_m: s.min_axis_distance_m,
+                lattice_side_m: s.lattice_side_m,
+                lattice_points_per_side: s.lattice_points_per_side,
+                orientations_per_point: s.orientations_per_point,
+                speed_ms: pair(s.speed_ms),
+                spin_rads: pair(s.spin_rads),
+                theta_deg: pair(s.theta_deg),
+                chi_deg: pair(s.chi_deg),
+                dt_s: s.dt_s,
+                max_time_s: s.max_time_s,
+            },
+            zeta_ct_thresholds: ZetaThresholds {
+                frontal_below: FRONTAL_MAX,
+                scratch_from: LATERAL_MAX,
+            },
+            seed,
+            samples_requested: samples,
+            samples: run.impacts.len() as u64,
+            candidates_total: s.candidates(),
+            candidates_tried: run.tried,
+            hit_rate: run.impacts.len() as f64 / run.tried.max(1) as f64,
+            misses: run.misses,
+            exhausted: run.exhausted,
+            threads: run.threads as u64,
+            wall_time_s: run.wall_time_s,
+            regimes: Regimes::of(&metrics),
+            all: RegimeSummary::of(&metrics, |_| true).report(metrics.len()),
+        }
+    }
 }

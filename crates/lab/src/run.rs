@@ -11,8 +11,8 @@ use std::time::Instant;
 /// batch only sets how much work may be wasted past the last hit, never which hits are kept.
 const BATCH: usize = 1024;
 
-/// Candidates that missed, by reason.
-#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+/// Candidates that missed, by reason (`summary.json` key `misses`).
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct MissCounts {
     /// Path never within reach of the stem (not stepped).
     pub wide: u64,

@@ -16,7 +16,8 @@
 use crate::LabError;
 use crate::stats::{quantile, sorted_finite};
 use rockfall_plot::{Axes, ColorScale, LinePanel, Polyline, colored_lines_panels};
-use rockfall_results::Results;
+use rockfall_results::{Results, Summary};
+use serde::Serialize;
 use serde_json::{Value, json};
 use std::path::Path;
 
@@ -35,7 +36,7 @@ pub struct SlopeRun {
     /// The shape.
     pub label: String,
     /// The run's `summary.json`.
-    pub summary: Value,
+    pub summary: Summary,
     /// Every recorded rock's path, by rock number.
     pub paths: Vec<RockPath>,
 }
@@ -60,7 +61,7 @@ impl SlopeRun {
         }
         SlopeRun {
             label: label.to_string(),
-            summary: results.summary_json(),
+            summary: results.summary(),
             paths,
         }
     }
@@ -164,18 +165,18 @@ impl SlopeStats {
     }
 
     /// The study's JSON for this shape.
-    pub fn json(&self, summary: &Value) -> Value {
+    pub fn json(&self, summary: &Summary) -> Value {
         let [mean, p50, p95, max] = self.runout_m;
         let [sd, p5, p95l, max_abs] = self.lateral_end_m;
         let [w50, w95, wmax] = self.lateral_path_m;
         json!({
             "shape": self.label,
             "rocks": self.rocks,
-            "stopped_fraction": summary["stopped_fraction"],
-            "left_dem_fraction": summary["left_dem_fraction"],
-            "time_limit_fraction": summary["time_limit_fraction"],
-            "tree_impacts_per_rock": summary["tree_impacts_per_rock"],
-            "max_velocity_ms": summary["max_velocity_ms"],
+            "stopped_fraction": summary.stopped_fraction,
+            "left_dem_fraction": summary.left_dem_fraction,
+            "time_limit_fraction": summary.time_limit_fraction,
+            "tree_impacts_per_rock": summary.tree_impacts_per_rock,
+            "max_velocity_ms": summary.max_velocity_ms,
             "runout_m": {"mean": mean, "p50": p50, "p95": p95, "max": max},
             "lateral_end_m": {
                 "sd": sd, "p5": p5, "p95": p95l, "width_p5_p95": self.spread_width_m(),
@@ -198,19 +199,49 @@ fn pick(stats: &[SlopeStats], key: impl Fn(&SlopeStats) -> f64, largest: bool) -
     best.map(|s| s.label.as_str())
 }
 
-/// The comparison seed 001 draws from fig. 6: which shape runs out farthest (p95 run-out),
-/// spreads widest and least (5–95 % width of the final lateral offsets).
-pub fn ranking(stats: &[SlopeStats]) -> Value {
-    json!({
-        "farthest_runout_p95": pick(stats, |s| s.runout_m[2], true),
-        "widest_spread": pick(stats, SlopeStats::spread_width_m, true),
-        "least_spread": pick(stats, SlopeStats::spread_width_m, false),
-        "paper": {
-            "farthest_runout": "flat2.2",
-            "widest_spread": "flat2.2",
-            "least_spread": "long2.2",
-        },
-    })
+/// The comparison seed 001 draws from fig. 6 (`study.json` key `ranking`): which shape runs
+/// out farthest (p95 run-out), spreads widest and least (5–95 % width of the final lateral
+/// offsets); `None` when no shape has a finite value.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Ranking {
+    /// The shape of the largest p95 run-out.
+    pub farthest_runout_p95: Option<String>,
+    /// The shape of the widest spread.
+    pub widest_spread: Option<String>,
+    /// The shape of the least spread.
+    pub least_spread: Option<String>,
+    /// What the paper found.
+    pub paper: PaperRanking,
+}
+
+/// Seed 001's findings (§3.4, fig. 6), by shape.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PaperRanking {
+    /// The shape that runs out farthest.
+    pub farthest_runout: &'static str,
+    /// The shape that spreads widest.
+    pub widest_spread: &'static str,
+    /// The shape that spreads least.
+    pub least_spread: &'static str,
+}
+
+/// What seed 001 found.
+pub const PAPER_RANKING: PaperRanking = PaperRanking {
+    farthest_runout: "flat2.2",
+    widest_spread: "flat2.2",
+    least_spread: "long2.2",
+};
+
+/// The ranking of `stats` (see [`Ranking`]).
+pub fn ranking(stats: &[SlopeStats]) -> Ranking {
+    let shape =
+        |key: fn(&SlopeStats) -> f64, largest| pick(stats, key, largest).map(str::to_string);
+    Ranking {
+        farthest_runout_p95: shape(|s| s.runout_m[2], true),
+        widest_spread: shape(SlopeStats::spread_width_m, true),
+        least_spread: shape(SlopeStats::spread_width_m, false),
+        paper: PAPER_RANKING,
+    }
 }
 
 /// A Markdown table of `stats`.
@@ -221,17 +252,13 @@ pub fn table(stats: &[SlopeStats], runs: &[SlopeRun]) -> String {
          |---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n",
     );
     for (s, r) in stats.iter().zip(runs) {
-        let pct = |k: &str| {
-            r.summary[k]
-                .as_f64()
-                .map_or("–".into(), |v| format!("{:.0} %", 100.0 * v))
-        };
+        let pct = |f: Option<f64>| f.map_or("–".into(), |v| format!("{:.0} %", 100.0 * v));
         t += &format!(
             "| {} | {} | {} | {} | {:.1} m | {:.1} m | {:.1} m | {:.1} m | {:.1} m | {:.1} m | {:.1} m | {:.1} m |\n",
             s.label,
             s.rocks,
-            pct("stopped_fraction"),
-            pct("left_dem_fraction"),
+            pct(r.summary.stopped_fraction),
+            pct(r.summary.left_dem_fraction),
             s.runout_m[0],
             s.runout_m[1],
             s.runout_m[2],
@@ -320,17 +347,20 @@ pub fn write_study(out_dir: &Path, runs: &[SlopeRun], line: &FallLine) -> Result
         }),
     )?;
     let md_path = out_dir.join("study.md");
-    let name = |k: &str| rank[k].as_str().unwrap_or("–").to_string();
+    let name = |shape: &Option<String>| shape.as_deref().unwrap_or("–").to_string();
     let md = format!(
         "# Rock-shape study (seed 001 §3.4)\n\nRun-out along the fall line of the release and \
          lateral offset across it (horizontal m); spread = final lateral offsets, path \
          max-lateral = the farthest each rock strays sideways.\n\n{}\n\
-         Farthest run-out (p95): **{}** (paper: flat2.2). Widest spread (5–95 % width): **{}** \
-         (paper: flat2.2). Least spread: **{}** (paper: long2.2).\n",
+         Farthest run-out (p95): **{}** (paper: {}). Widest spread (5–95 % width): **{}** \
+         (paper: {}). Least spread: **{}** (paper: {}).\n",
         table(&stats, runs),
-        name("farthest_runout_p95"),
-        name("widest_spread"),
-        name("least_spread"),
+        name(&rank.farthest_runout_p95),
+        rank.paper.farthest_runout,
+        name(&rank.widest_spread),
+        rank.paper.widest_spread,
+        name(&rank.least_spread),
+        rank.paper.least_spread,
     );
     rockfall_raster::atomic::write_bytes_atomic(&md_path, md.as_bytes()).map_err(LabError::from)?;
     Ok(Study {

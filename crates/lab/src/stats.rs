@@ -6,7 +6,7 @@
 //! 1986, eq. 3.31), robust to the long tail of Δω (a rock barely spinning before an impact
 //! can leave it spinning many times faster: Δω → −∞). Non-finite values are left out.
 
-use serde_json::{Value, json};
+use serde::{Deserialize, Serialize};
 
 /// Kernel support, in bandwidths (the Gaussian beyond 6 h is below 1.6e-8 of its peak).
 const CUTOFF: f64 = 6.0;
@@ -14,8 +14,8 @@ const CUTOFF: f64 = 6.0;
 /// Grid points of the mode search.
 const MODE_GRID: usize = 512;
 
-/// Mean, median and mode of a sample.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Mean, median and mode of a sample; written as `{"n", "mean", "p50", "mode"}`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Described {
     /// Values described (finite ones).
     pub n: usize,
@@ -25,13 +25,6 @@ pub struct Described {
     pub p50: f64,
     /// Peak of the kernel density estimate.
     pub mode: f64,
-}
-
-impl Described {
-    /// `{"n", "mean", "p50", "mode"}` (`n`: the finite values described).
-    pub fn json(&self) -> Value {
-        json!({"n": self.n, "mean": self.mean, "p50": self.p50, "mode": self.mode})
-    }
 }
 
 /// The finite values of `values`, sorted.

@@ -3,7 +3,7 @@
 use crate::Regime;
 use crate::impact::Impact;
 use crate::stats::{Described, describe};
-use serde_json::{Map, Value, json};
+use serde::{Deserialize, Serialize};
 
 /// What the summaries and figures need of one impact (read back from `impacts.csv` when runs
 /// are compared).
@@ -65,31 +65,61 @@ impl RegimeSummary {
         }
     }
 
-    /// `{"n", "share", "total_energy_loss": {"mean","p50","mode"}, "trans_energy_loss": …,
-    /// "rotation_change": …}`, `share` being `n / of`.
-    pub fn json(&self, of: usize) -> Value {
-        let mut m = Map::new();
-        m.insert("n".into(), json!(self.n));
-        m.insert("share".into(), json!(self.n as f64 / of.max(1) as f64));
-        for ((key, _), s) in QUANTITIES.iter().zip(&self.stats) {
-            m.insert((*key).into(), s.map_or(Value::Null, |d| d.json()));
+    /// This summary as written, `share` being `n / of`.
+    pub fn report(&self, of: usize) -> RegimeReport {
+        let [total_energy_loss, trans_energy_loss, rotation_change] = self.stats;
+        RegimeReport {
+            n: self.n as u64,
+            share: self.n as f64 / of.max(1) as f64,
+            total_energy_loss,
+            trans_energy_loss,
+            rotation_change,
         }
-        Value::Object(m)
+    }
+}
+
+/// One regime (or all impacts) as `summary.json` and `comparison.json` write it: the
+/// quantities of [`QUANTITIES`] under their keys, `None` (`null`) without impacts.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RegimeReport {
+    /// Impacts.
+    pub n: u64,
+    /// Share of all impacts (0 … 1).
+    pub share: f64,
+    /// ΔE_total, fraction.
+    pub total_energy_loss: Option<Described>,
+    /// ΔE_trans, fraction.
+    pub trans_energy_loss: Option<Described>,
+    /// Δω, fraction.
+    pub rotation_change: Option<Described>,
+}
+
+/// The three regimes, keyed by their names ([`Regime::name`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Regimes {
+    /// Frontal impacts.
+    pub frontal: RegimeReport,
+    /// Lateral impacts.
+    pub lateral: RegimeReport,
+    /// Scratches.
+    pub scratch: RegimeReport,
+}
+
+impl Regimes {
+    /// The regimes of `metrics`, each with its share of all of them.
+    pub fn of(metrics: &[Metrics]) -> Regimes {
+        let [frontal, lateral, scratch] = by_regime(metrics).map(|s| s.report(metrics.len()));
+        Regimes {
+            frontal,
+            lateral,
+            scratch,
+        }
     }
 }
 
 /// The summaries of the three regimes, in the order of [`Regime::ALL`].
 pub fn by_regime(metrics: &[Metrics]) -> [RegimeSummary; 3] {
     Regime::ALL.map(|r| RegimeSummary::of(metrics, |m| m.regime == r))
-}
-
-/// `{"frontal": …, "lateral": …, "scratch": …}` (see [`RegimeSummary::json`]).
-pub fn regimes_json(metrics: &[Metrics]) -> Value {
-    let mut m = Map::new();
-    for (r, s) in Regime::ALL.iter().zip(by_regime(metrics)) {
-        m.insert(r.name().into(), s.json(metrics.len()));
-    }
-    Value::Object(m)
 }
 
 /// One labelled set of impacts (a shape's run).
@@ -152,12 +182,32 @@ mod tests {
             m(Regime::Frontal, 0.9),
             m(Regime::Scratch, 0.4),
         ];
-        let j = regimes_json(&v);
-        assert_eq!(j["frontal"]["n"], 2);
-        assert!((j["frontal"]["total_energy_loss"]["mean"].as_f64().unwrap() - 0.85).abs() < 1e-12);
-        assert_eq!(j["scratch"]["trans_energy_loss"]["p50"], 0.4);
-        assert_eq!(j["lateral"]["n"], 0);
-        assert!(j["lateral"]["rotation_change"].is_null());
-        assert!((j["scratch"]["share"].as_f64().unwrap() - 1.0 / 3.0).abs() < 1e-12);
+        let j = Regimes::of(&v);
+        assert_eq!(j.frontal.n, 2);
+        let mean = j.frontal.total_energy_loss.unwrap().mean;
+        assert!((mean - 0.85).abs() < 1e-12);
+        assert_eq!(j.scratch.trans_energy_loss.unwrap().p50, 0.4);
+        assert_eq!(j.lateral.n, 0);
+        assert!(j.lateral.rotation_change.is_none());
+        assert!((j.scratch.share - 1.0 / 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_written_keys_are_the_regime_and_quantity_names() {
+        let v = serde_json::to_value(Regimes::of(&[m(Regime::Frontal, 0.8)])).unwrap();
+        let keys = |v: &serde_json::Value| -> Vec<String> {
+            v.as_object().unwrap().keys().cloned().collect()
+        };
+        let mut regimes: Vec<&str> = Regime::ALL.iter().map(|r| r.name()).collect();
+        regimes.sort_unstable();
+        assert_eq!(keys(&v), regimes);
+        let mut quantities: Vec<&str> = QUANTITIES.iter().map(|(k, _)| *k).collect();
+        quantities.extend(["n", "share"]);
+        quantities.sort_unstable();
+        assert_eq!(keys(&v["frontal"]), quantities);
+        assert_eq!(
+            keys(&v["frontal"]["total_energy_loss"]),
+            ["mean", "mode", "n", "p50"]
+        );
     }
 }

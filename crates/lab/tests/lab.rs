@@ -247,11 +247,19 @@ fn impacts_csv_reads_back_exactly() {
             .collect::<Vec<_>>()
     };
     assert_eq!(bits(&back.metrics), bits(&direct));
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
-            .unwrap();
+    let text = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(summary["samples"], 40);
     assert_eq!(summary["candidates_tried"], run.tried);
+    // the typed summary reads the file back, and writes it again byte for byte
+    let typed: rockfall_lab::output::LabSummary = serde_json::from_str(&text).unwrap();
+    assert_eq!(typed.samples, 40);
+    assert_eq!(
+        typed.regimes.frontal.n + typed.regimes.lateral.n + typed.regimes.scratch.n,
+        40
+    );
+    let again = serde_json::to_value(&typed).unwrap();
+    assert_eq!(serde_json::to_string_pretty(&again).unwrap() + "\n", text);
 }
 
 #[test]
@@ -332,7 +340,7 @@ fn slope_offsets_are_along_and_to_the_left_of_the_fall_line() {
     };
     let run = SlopeRun {
         label: "test".into(),
-        summary: serde_json::Value::Null,
+        summary: rockfall_results::Summary::default(),
         paths: vec![
             path(vec![[10.0, 20.0], [11.0, 15.0]]),
             path(vec![[10.0, 20.0], [14.0, 15.0], [13.0, 10.0]]),

@@ -119,7 +119,7 @@ fn run(s: &Scenario, forest: &Forest, threads: usize) -> Results {
         seed: s.seed,
         threads,
         wall_time_s: start.elapsed().as_secs_f64(),
-        extra: Default::default(),
+        parameters: Default::default(),
     };
     Results::new(&layout, tally, info)
 }

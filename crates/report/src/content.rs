@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use rockfall_results::Summary;
 use serde_json::Value;
 
 use crate::ReportInput;
@@ -14,21 +15,23 @@ use crate::qml::number;
 pub(crate) fn page(
     out: &Path,
     input: &ReportInput<'_>,
-    summary: &Value,
+    summary: &Summary,
     sections: Vec<FigureSection>,
     files: &[PathBuf],
 ) -> Page {
     let s = summary;
     let crs = input.scenario.terrain.dem.crs();
     let crs_text = crs.map_or("no CRS".into(), |c| c.describe());
+    // every number as summary.json writes it (cannot fail: its maps are keyed by strings)
     let mut numbers = Vec::new();
-    let mut without_parameters = s.clone();
-    if let Some(m) = without_parameters.as_object_mut() {
+    let mut all = serde_json::to_value(s).unwrap_or_default();
+    if let Some(m) = all.as_object_mut() {
         m.remove("parameters");
     }
-    flatten("", &without_parameters, &mut numbers);
+    flatten("", &all, &mut numbers);
     let mut parameters = Vec::new();
-    flatten("", &s["parameters"], &mut parameters);
+    let engine = serde_json::to_value(&s.parameters).unwrap_or_default();
+    flatten("", &engine, &mut parameters);
     let label = match input.label.is_empty() {
         true => String::new(),
         false => format!(" ({})", input.label),
@@ -38,10 +41,7 @@ pub(crate) fn page(
         title: format!("Rockfall report: {}{label}", input.scenario.name),
         subtitle: format!(
             "{} engine · {} rocks · seed {} · rockfall {}",
-            text(&s["engine"]),
-            text(&s["rocks"]),
-            text(&s["seed"]),
-            text(&s["version"])
+            s.engine, s.rocks, s.seed, s.version
         ),
         links: input.links.clone(),
         run: run_rows(input, s, &utc_now()),
@@ -52,6 +52,11 @@ pub(crate) fn page(
         numbers,
         files: files_table(out, files, &crs_text, named),
     }
+}
+
+/// A number as table text: four significant digits, `–` when undefined.
+pub(crate) fn optional(v: Option<f64>) -> String {
+    v.map_or("–".into(), number)
 }
 
 /// A JSON value as table text: numbers to four significant digits, `–` for null.
@@ -71,10 +76,9 @@ pub(crate) fn text(v: &Value) -> String {
     }
 }
 
-/// A fraction as a percentage: `0.997` → `99.7 %`.
-fn percent(v: &Value) -> String {
-    v.as_f64()
-        .map_or("–".into(), |f| format!("{} %", number(f * 100.0)))
+/// A fraction as a percentage: `0.997` → `99.7 %`; `–` when undefined.
+fn percent(v: Option<f64>) -> String {
+    v.map_or("–".into(), |f| format!("{} %", number(f * 100.0)))
 }
 
 /// Every leaf of `v` as `(path, text)`: objects by key (`runout_m.p50`), arrays of objects
@@ -96,7 +100,8 @@ pub(crate) fn flatten(prefix: &str, v: &Value, out: &mut Rows) {
         }
         Value::Array(a) if a.iter().any(Value::is_object) => {
             for (i, x) in a.iter().enumerate() {
-                let key = x["name"].as_str().map_or(i.to_string(), str::to_owned);
+                let name = x.get("name").and_then(Value::as_str);
+                let key = name.map_or(i.to_string(), str::to_owned);
                 flatten(&format!("{prefix}[{key}]"), x, out);
             }
         }
@@ -105,25 +110,22 @@ pub(crate) fn flatten(prefix: &str, v: &Value, out: &mut Rows) {
 }
 
 /// What was run.
-pub(crate) fn run_rows(input: &ReportInput<'_>, s: &Value, written_utc: &str) -> Rows {
+pub(crate) fn run_rows(input: &ReportInput<'_>, s: &Summary, written_utc: &str) -> Rows {
     let sc = input.scenario;
     let g = sc.terrain.dem.geometry();
     let mut rows: Rows = vec![
         ("Scenario".into(), sc.name.clone()),
         ("Input".into(), input.input.clone()),
-        ("Engine".into(), text(&s["engine"])),
-        ("Seed".into(), text(&s["seed"])),
-        ("Rocks".into(), text(&s["rocks"])),
-        ("Threads".into(), text(&s["threads"])),
-        ("Wall time".into(), format!("{} s", text(&s["wall_time_s"]))),
+        ("Engine".into(), s.engine.clone()),
+        ("Seed".into(), s.seed.to_string()),
+        ("Rocks".into(), s.rocks.to_string()),
+        ("Threads".into(), s.threads.to_string()),
+        ("Wall time".into(), format!("{} s", optional(s.wall_time_s))),
         (
             "Trajectories per second".into(),
-            text(&s["trajectories_per_s"]),
+            optional(s.trajectories_per_s),
         ),
-        (
-            "Version".into(),
-            format!("rockfall {}", text(&s["version"])),
-        ),
+        ("Version".into(), format!("rockfall {}", s.version)),
         ("Command".into(), input.command.clone()),
         ("Written".into(), written_utc.to_owned()),
         (
@@ -158,46 +160,38 @@ pub(crate) fn run_rows(input: &ReportInput<'_>, s: &Value, written_utc: &str) ->
 }
 
 /// The headline numbers.
-pub(crate) fn glance(s: &Value) -> Rows {
-    let m = |v: &Value, unit: &str| format!("{} {unit}", text(v));
+pub(crate) fn glance(s: &Summary) -> Rows {
+    let m = |v: Option<f64>, unit: &str| format!("{} {unit}", optional(v));
+    let (runout, speed, jump) = (&s.runout_m, &s.max_velocity_ms, &s.max_jump_height_m);
     vec![
         (
             "came to rest inside the DEM".into(),
-            percent(&s["stopped_fraction"]),
+            percent(s.stopped_fraction),
         ),
-        ("left the DEM".into(), percent(&s["left_dem_fraction"])),
-        ("run-out, median".into(), m(&s["runout_m"]["p50"], "m")),
-        (
-            "run-out, 95th percentile".into(),
-            m(&s["runout_m"]["p95"], "m"),
-        ),
-        ("run-out, longest".into(), m(&s["runout_m"]["max"], "m")),
+        ("left the DEM".into(), percent(s.left_dem_fraction)),
+        ("run-out, median".into(), m(runout.p50, "m")),
+        ("run-out, 95th percentile".into(), m(runout.p95, "m")),
+        ("run-out, longest".into(), m(runout.max, "m")),
         (
             "maximum speed, mean over rocks".into(),
-            m(&s["max_velocity_ms"]["mean"], "m/s"),
+            m(speed.mean, "m/s"),
         ),
-        (
-            "maximum speed, fastest rock".into(),
-            m(&s["max_velocity_ms"]["max"], "m/s"),
-        ),
+        ("maximum speed, fastest rock".into(), m(speed.max, "m/s")),
         (
             "jump height, mean of the rocks' maxima".into(),
-            m(&s["max_jump_height_m"]["mean"], "m"),
+            m(jump.mean, "m"),
         ),
-        (
-            "jump height, highest".into(),
-            m(&s["max_jump_height_m"]["max"], "m"),
-        ),
+        ("jump height, highest".into(), m(jump.max, "m")),
         (
             "tree impacts per rock".into(),
-            text(&s["tree_impacts_per_rock"]),
+            optional(s.tree_impacts_per_rock),
         ),
-        ("cells reached".into(), text(&s["cells_reached"])),
+        ("cells reached".into(), s.cells_reached.to_string()),
     ]
 }
 
 /// The screens' table.
-pub(crate) fn screens(s: &Value) -> Table {
+pub(crate) fn screens(s: &Summary) -> Table {
     let header = [
         "screen",
         "passed",
@@ -212,17 +206,15 @@ pub(crate) fn screens(s: &Value) -> Table {
         "height p95",
         "height max",
     ];
-    let rows = (s["screens"].as_array().into_iter().flatten())
+    let rows = (s.screens.iter())
         .map(|sc| {
             let mut row = vec![
-                text(&sc["name"]),
-                percent(&sc["passed_fraction"]),
-                text(&sc["crossings"]),
+                sc.name.clone(),
+                percent(sc.passed_fraction),
+                sc.crossings.to_string(),
             ];
-            for q in ["velocity_ms", "energy_kj", "jump_height_m"] {
-                for k in ["mean", "p95", "max"] {
-                    row.push(text(&sc[q][k]));
-                }
+            for q in [&sc.velocity_ms, &sc.energy_kj, &sc.jump_height_m] {
+                row.extend([q.mean, q.p95, q.max].map(optional));
             }
             row
         })
@@ -320,6 +312,7 @@ fn utc(secs: u64) -> String {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+    use rockfall_results::{MeanP95Max, Runout};
     use serde_json::json;
 
     #[test]
@@ -367,14 +360,27 @@ mod tests {
     }
 
     #[test]
-    fn the_glance_reads_each_number_from_its_key() {
-        let s = serde_json::json!({
-            "stopped_fraction": 0.9, "left_dem_fraction": 0.1,
-            "runout_m": {"p50": 1.0, "p95": 2.0, "max": 3.0},
-            "max_velocity_ms": {"mean": 4.0, "max": 5.0},
-            "max_jump_height_m": {"mean": 6.0, "max": 7.0},
-            "tree_impacts_per_rock": 8.0, "cells_reached": 9,
-        });
+    fn the_glance_reads_each_number_from_its_field() {
+        let stats = |mean, max| MeanP95Max {
+            mean: Some(mean),
+            p95: None,
+            max: Some(max),
+        };
+        let s = Summary {
+            stopped_fraction: Some(0.9),
+            left_dem_fraction: Some(0.1),
+            runout_m: Runout {
+                p50: Some(1.0),
+                p95: Some(2.0),
+                max: Some(3.0),
+                mean: None,
+            },
+            max_velocity_ms: stats(4.0, 5.0),
+            max_jump_height_m: stats(6.0, 7.0),
+            tree_impacts_per_rock: Some(8.0),
+            cells_reached: 9,
+            ..Summary::default()
+        };
         let got: Vec<String> = glance(&s).into_iter().map(|(_, v)| v).collect();
         assert_eq!(
             got,

@@ -125,7 +125,7 @@ pub fn write(out: &Path, input: &ReportInput<'_>) -> Result<Vec<PathBuf>, Report
         layers.draw(&dir, input, &base, &name, grid)?;
     }
     written.extend(gis::write_vectors(out, input)?);
-    let summary = input.results.summary_json();
+    let summary = input.results.summary();
     let sections = sections::figure_sections(&dir, input, &base, layers, &summary)?;
     written.extend(
         sections

@@ -12,10 +12,10 @@ use std::path::Path;
 use rockfall_plot::{
     Axes, Bars, ColorScale, LinePanel, Polyline, Ramp, colored_lines_panels, histogram, nice_step,
 };
-use rockfall_results::{Bin, Distribution, Quantity, Results, TrajectoryRow};
-use serde_json::Value;
+use rockfall_results::{Bin, Distribution, Quantity, Results, Summary, TrajectoryRow};
 
 use crate::ReportError;
+use crate::content::optional;
 use crate::figure::Figure;
 use crate::geojson::{by_rock, energy_kj};
 use crate::qml::number;
@@ -78,7 +78,7 @@ pub(crate) fn rebin(bins: &[Bin], width: f64, total: u64) -> Vec<(f64, f64, f64)
 pub fn runout(
     dir: &Path,
     results: &Results,
-    summary: &Value,
+    summary: &Summary,
 ) -> Result<Option<Figure>, ReportError> {
     let Some(d) = results
         .distribution(Quantity::Runout)
@@ -91,13 +91,12 @@ pub fn runout(
         label: format!("{} rocks", d.count),
         bins: rebin(&d.bins, width, d.count),
     }];
-    let r = &summary["runout_m"];
-    let f = |v: &Value| v.as_f64().map_or("–".into(), number);
+    let r = &summary.runout_m;
     let title = format!(
         "Run-out: p50 {} m, p95 {} m, max {} m",
-        f(&r["p50"]),
-        f(&r["p95"]),
-        f(&r["max"])
+        optional(r.p50),
+        optional(r.p95),
+        optional(r.max)
     );
     let axes = Axes::new(
         "run-out: horizontal distance from release to rest (m)",
@@ -114,10 +113,12 @@ pub fn runout(
 }
 
 /// Energy and passing-height distributions at the screens (one bar set per crossed screen).
-pub fn screens(dir: &Path, results: &Results, summary: &Value) -> Result<Vec<Figure>, ReportError> {
-    let names: Vec<String> = (summary["screens"].as_array().into_iter().flatten())
-        .map(|sc| sc["name"].as_str().unwrap_or("screen").to_owned())
-        .collect();
+pub fn screens(
+    dir: &Path,
+    results: &Results,
+    summary: &Summary,
+) -> Result<Vec<Figure>, ReportError> {
+    let names: Vec<String> = summary.screens.iter().map(|sc| sc.name.clone()).collect();
     let mut figures = Vec::new();
     for (file, what, unit, quantity) in [
         (

@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use rockfall_raster::Grid;
+use rockfall_results::Summary;
 use rockfall_scenario::Engine;
-use serde_json::Value;
 
 use crate::html::FigureSection;
 use crate::maps::MapBase;
@@ -78,7 +78,7 @@ pub(crate) fn figure_sections(
     input: &ReportInput<'_>,
     base: &MapBase,
     layers: LayerMaps,
-    summary: &Value,
+    summary: &Summary,
 ) -> Result<Vec<FigureSection>, ReportError> {
     let mut sections = vec![maps(dir, input, base, layers.maps, &layers.skipped)?];
     if input.forest_effect.is_some() {
@@ -150,7 +150,7 @@ fn distributions(
     input: &ReportInput<'_>,
     base: &MapBase,
     passages: Option<&Grid<f64>>,
-    summary: &Value,
+    summary: &Summary,
 ) -> Result<FigureSection, ReportError> {
     let r = input.results;
     let mut figures: Vec<Figure> = plots::runout(dir, r, summary)?.into_iter().collect();

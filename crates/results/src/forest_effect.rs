@@ -3,12 +3,12 @@
 use std::path::{Path, PathBuf};
 
 use rockfall_raster::{Grid, SampleType};
-use serde_json::{Value, json};
+use serde::{Deserialize, Serialize};
 
-use crate::Results;
 use crate::results::{Kind, NODATA};
-use crate::summary::num;
+use crate::summary::finite;
 use crate::write::{create_dir, write_json, write_raster};
+use crate::{Results, ScreenSummary};
 
 /// The forest's protective effect: the run with the forest minus the run without it (same
 /// layout, seed and rocks). Negative values are a protective effect.
@@ -16,23 +16,132 @@ use crate::write::{create_dir, write_json, write_raster};
 pub struct ForestEffect {
     reach: Grid<f64>,
     e95: Grid<f64>,
-    summary: Value,
+    summary: ForestEffectSummary,
 }
 
-/// {with, without, difference} of two summary values at `path` (keys into nested objects).
-fn compare(with: &Value, without: &Value, path: &[&str]) -> Value {
-    let get = |v: &Value| path.iter().fold(v, |v, k| &v[*k]).as_f64();
-    let (a, b) = (get(with), get(without));
-    json!({
-        "with_forest": num(a),
-        "without_forest": num(b),
-        "difference": num(a.zip(b).map(|(a, b)| a - b)),
-    })
+/// `forest_effect.json`: the forest's effect on a run's numbers, `None` (written `null`) where
+/// undefined. Written with its keys sorted ([`crate::write_json`]).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct ForestEffectSummary {
+    /// Engine name (of the run with the forest).
+    pub engine: String,
+    /// Scenario name.
+    pub scenario: String,
+    /// Master seed.
+    pub seed: u64,
+    /// Version of rockfall that wrote it.
+    pub version: String,
+    /// Rocks simulated (written as numbers with a fraction, e.g. `10000.0`).
+    pub rocks: Difference,
+    /// `Forest_effect_Reach_probability`, percentage points, over cells reached in either run.
+    pub reach_probability_pp: ReachDifferences,
+    /// `Forest_effect_E_95`, kJ, over cells with data in either run.
+    pub e_95_kj: CellDifferences,
+    /// Share of rocks stopped inside the DEM.
+    pub stopped_fraction: Difference,
+    /// Share of rocks that left the DEM.
+    pub left_dem_fraction: Difference,
+    /// Median run-out, m.
+    pub runout_p50_m: Difference,
+    /// 95th percentile of the run-out, m.
+    pub runout_p95_m: Difference,
+    /// Longest run-out, m.
+    pub runout_max_m: Difference,
+    /// Mean over rocks of each rock's largest speed, m/s.
+    pub max_velocity_mean_ms: Difference,
+    /// Mean over rocks of each rock's largest jump height, m.
+    pub max_jump_height_mean_m: Difference,
+    /// Tree impacts per rock.
+    pub tree_impacts_per_rock: Difference,
+    /// The screens of the run with the forest, matched by name in the run without.
+    pub screens: Vec<ScreenDifference>,
+}
+
+/// One number of the two runs and their difference (with − without).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Difference {
+    /// In the run with the forest.
+    pub with_forest: Option<f64>,
+    /// In the run without it.
+    pub without_forest: Option<f64>,
+    /// `with_forest − without_forest` (`None` when either is).
+    pub difference: Option<f64>,
+}
+
+impl Difference {
+    /// `with` and `without` and their difference.
+    fn of(with: Option<f64>, without: Option<f64>) -> Difference {
+        let (a, b) = (finite(with), finite(without));
+        Difference {
+            with_forest: a,
+            without_forest: b,
+            difference: finite(a.zip(b).map(|(a, b)| a - b)),
+        }
+    }
+}
+
+/// What a difference raster holds over the cells described.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct CellDifferences {
+    /// Cells described.
+    pub cells: u64,
+    /// Mean difference (the raster's unit).
+    pub mean_difference: Option<f64>,
+    /// Smallest difference.
+    pub min_difference: Option<f64>,
+    /// Largest difference.
+    pub max_difference: Option<f64>,
+    /// Cells where the forest lowered the value.
+    pub cells_lowered: u64,
+    /// Cells where the forest raised the value.
+    pub cells_raised: u64,
+}
+
+/// [`CellDifferences`] of the reach probability, with the cells each run reached.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct ReachDifferences {
+    /// Over the cells reached in either run, percentage points.
+    #[serde(flatten)]
+    pub cells: CellDifferences,
+    /// Cells reached with the forest.
+    pub cells_reached_with_forest: u64,
+    /// Cells reached without it.
+    pub cells_reached_without_forest: u64,
+}
+
+/// The forest's effect at one screen.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct ScreenDifference {
+    /// Screen name.
+    pub name: String,
+    /// Share of rocks that crossed.
+    pub passed_fraction: Difference,
+    /// 95th percentile of the crossings' energy, kJ.
+    pub energy_kj_p95: Difference,
+    /// 95th percentile of the crossings' speed, m/s.
+    pub velocity_ms_p95: Difference,
+    /// 95th percentile of the crossings' jump height, m.
+    pub jump_height_m_p95: Difference,
+}
+
+impl ScreenDifference {
+    /// Screen `with` of the run with the forest against `without` (`None`: the run without
+    /// the forest has no screen of that name).
+    fn of(with: &ScreenSummary, without: Option<&ScreenSummary>) -> ScreenDifference {
+        let d = |f: fn(&ScreenSummary) -> Option<f64>| Difference::of(f(with), without.and_then(f));
+        ScreenDifference {
+            name: with.name.clone(),
+            passed_fraction: d(|s| s.passed_fraction),
+            energy_kj_p95: d(|s| s.energy_kj.p95),
+            velocity_ms_p95: d(|s| s.velocity_ms.p95),
+            jump_height_m_p95: d(|s| s.jump_height_m.p95),
+        }
+    }
 }
 
 /// Mean, min, max and count of lowered / raised cells of the valid cells of a difference
 /// raster, over the cells where `counted` holds.
-fn describe(diff: &Grid<f64>, counted: impl Fn(usize) -> bool) -> Value {
+fn describe(diff: &Grid<f64>, counted: impl Fn(usize) -> bool) -> CellDifferences {
     let (mut n, mut sum, mut lo, mut hi, mut lowered, mut raised) = (0u64, 0.0, None, None, 0, 0);
     for (i, &v) in diff.values().iter().enumerate() {
         if !diff.mask()[i] || !counted(i) {
@@ -45,14 +154,14 @@ fn describe(diff: &Grid<f64>, counted: impl Fn(usize) -> bool) -> Value {
         lowered += u64::from(v < 0.0);
         raised += u64::from(v > 0.0);
     }
-    json!({
-        "cells": n,
-        "mean_difference": num((n > 0).then(|| sum / n as f64)),
-        "min_difference": num(lo),
-        "max_difference": num(hi),
-        "cells_lowered": lowered,
-        "cells_raised": raised,
-    })
+    CellDifferences {
+        cells: n,
+        mean_difference: finite((n > 0).then(|| sum / n as f64)),
+        min_difference: finite(lo),
+        max_difference: finite(hi),
+        cells_lowered: lowered,
+        cells_raised: raised,
+    }
 }
 
 impl ForestEffect {
@@ -86,46 +195,34 @@ impl ForestEffect {
         .with_crs(crs);
         e95.set_nodata_value(Some(NODATA));
 
-        let (sw, so) = (with_forest.summary_json(), without_forest.summary_json());
+        let (sw, so) = (with_forest.summary(), without_forest.summary());
         let either = |i| reached(&pw, i) || reached(&po, i);
-        let count = |g: &Grid<f64>| (0..geometry.len()).filter(|&i| reached(g, i)).count();
-        let mut reach_stats = describe(&reach, either);
-        reach_stats["cells_reached_with_forest"] = json!(count(&pw));
-        reach_stats["cells_reached_without_forest"] = json!(count(&po));
-        let screens: Vec<Value> = (sw["screens"].as_array().into_iter().flatten())
-            .map(|s| {
-                let name = s["name"].as_str().unwrap_or_default();
-                let other = (so["screens"].as_array().into_iter().flatten())
-                    .find(|o| o["name"].as_str() == Some(name))
-                    .cloned()
-                    .unwrap_or(Value::Null);
-                json!({
-                    "name": name,
-                    "passed_fraction": compare(s, &other, &["passed_fraction"]),
-                    "energy_kj_p95": compare(s, &other, &["energy_kj", "p95"]),
-                    "velocity_ms_p95": compare(s, &other, &["velocity_ms", "p95"]),
-                    "jump_height_m_p95": compare(s, &other, &["jump_height_m", "p95"]),
-                })
-            })
-            .collect();
-        let summary = json!({
-            "engine": sw["engine"],
-            "scenario": sw["scenario"],
-            "seed": sw["seed"],
-            "version": env!("CARGO_PKG_VERSION"),
-            "rocks": compare(&sw, &so, &["rocks"]),
-            "reach_probability_pp": reach_stats,
-            "e_95_kj": describe(&e95, |_| true),
-            "stopped_fraction": compare(&sw, &so, &["stopped_fraction"]),
-            "left_dem_fraction": compare(&sw, &so, &["left_dem_fraction"]),
-            "runout_p50_m": compare(&sw, &so, &["runout_m", "p50"]),
-            "runout_p95_m": compare(&sw, &so, &["runout_m", "p95"]),
-            "runout_max_m": compare(&sw, &so, &["runout_m", "max"]),
-            "max_velocity_mean_ms": compare(&sw, &so, &["max_velocity_ms", "mean"]),
-            "max_jump_height_mean_m": compare(&sw, &so, &["max_jump_height_m", "mean"]),
-            "tree_impacts_per_rock": compare(&sw, &so, &["tree_impacts_per_rock"]),
-            "screens": screens,
-        });
+        let count = |g: &Grid<f64>| (0..geometry.len()).filter(|&i| reached(g, i)).count() as u64;
+        let d = |f: fn(&crate::Summary) -> Option<f64>| Difference::of(f(&sw), f(&so));
+        let summary = ForestEffectSummary {
+            engine: sw.engine.clone(),
+            scenario: sw.scenario.clone(),
+            seed: sw.seed,
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            rocks: d(|s| Some(s.rocks as f64)),
+            reach_probability_pp: ReachDifferences {
+                cells: describe(&reach, either),
+                cells_reached_with_forest: count(&pw),
+                cells_reached_without_forest: count(&po),
+            },
+            e_95_kj: describe(&e95, |_| true),
+            stopped_fraction: d(|s| s.stopped_fraction),
+            left_dem_fraction: d(|s| s.left_dem_fraction),
+            runout_p50_m: d(|s| s.runout_m.p50),
+            runout_p95_m: d(|s| s.runout_m.p95),
+            runout_max_m: d(|s| s.runout_m.max),
+            max_velocity_mean_ms: d(|s| s.max_velocity_ms.mean),
+            max_jump_height_mean_m: d(|s| s.max_jump_height_m.mean),
+            tree_impacts_per_rock: d(|s| s.tree_impacts_per_rock),
+            screens: (sw.screens.iter())
+                .map(|s| ScreenDifference::of(s, so.screens.iter().find(|o| o.name == s.name)))
+                .collect(),
+        };
         ForestEffect {
             reach,
             e95,
@@ -133,15 +230,22 @@ impl ForestEffect {
         }
     }
 
-    /// `forest_effect.json` as a JSON value: for the reach probability (percentage points,
-    /// over cells reached in either run) and E_95 (kJ, over cells with data in either run)
-    /// the mean, min and max difference and the number of cells lowered / raised by the
-    /// forest; {with_forest, without_forest, difference} of stopped and left-DEM fractions,
-    /// runout p50/p95/max (m), mean of the rocks' maximum speed (m/s) and jump height (m),
-    /// tree impacts per rock, and per screen (matched by name) passed fraction and p95 of
-    /// energy (kJ), speed (m/s) and jump height (m). `null` where undefined.
-    pub fn summary_json(&self) -> Value {
-        self.summary.clone()
+    /// `forest_effect.json`: for the reach probability (percentage points, over cells reached
+    /// in either run) and E_95 (kJ, over cells with data in either run) the mean, min and max
+    /// difference and the number of cells lowered / raised by the forest; {with_forest,
+    /// without_forest, difference} of stopped and left-DEM fractions, runout p50/p95/max (m),
+    /// mean of the rocks' maximum speed (m/s) and jump height (m), tree impacts per rock, and
+    /// per screen (matched by name) passed fraction and p95 of energy (kJ), speed (m/s) and
+    /// jump height (m). `None` (`null`) where undefined.
+    pub fn summary(&self) -> &ForestEffectSummary {
+        &self.summary
+    }
+
+    /// [`ForestEffect::summary`] as a JSON value (keys sorted), as `forest_effect.json` holds
+    /// it.
+    pub fn summary_json(&self) -> serde_json::Value {
+        // cannot fail: every map of the summary is keyed by strings
+        serde_json::to_value(&self.summary).unwrap_or_default()
     }
 
     /// The difference rasters: `Forest_effect_Reach_probability` (percentage points) and

@@ -8,9 +8,10 @@
 //! hence whatever the thread count.
 //!
 //! [`Results::new`] turns the merged tally into rasters (named as Rockyfor3D users know them),
-//! `summary.json`, `trajectories.csv` and, on request ([`Layout::rock_ends`]), `rocks.csv`
-//! (one [`RockRecord`] per rock); [`Results::write`] writes them atomically.
-//! [`ForestEffect`] compares a run with the forest to the same run without it.
+//! `summary.json` (a [`Summary`], the engine's [`Parameters`] in it), `trajectories.csv` and,
+//! on request ([`Layout::rock_ends`]), `rocks.csv` (one [`RockRecord`] per rock);
+//! [`Results::write`] writes them atomically. [`ForestEffect`] compares a run with the forest
+//! to the same run without it (`forest_effect.json`: a [`ForestEffectSummary`]).
 //! [`Results::distribution`] and [`Results::speed_profile`] give what the report plots.
 //! [`ScreenSet`] finds where a rock's plan-view path crosses the evaluation screens.
 //!
@@ -44,6 +45,7 @@ mod cells;
 mod distribution;
 mod forest_effect;
 mod hist;
+mod parameters;
 mod profile;
 mod results;
 mod screens;
@@ -52,11 +54,16 @@ mod tally;
 mod write;
 
 pub use distribution::{Bin, Distribution, Quantity};
-pub use forest_effect::ForestEffect;
+pub use forest_effect::{
+    CellDifferences, Difference, ForestEffect, ForestEffectSummary, ReachDifferences,
+    ScreenDifference,
+};
 pub use hist::PERCENTILE_RELATIVE_ERROR;
+pub use parameters::{LegacySolver, LumpedParameters, Parameters, RigidParameters, RunSize};
 pub use profile::ProfileBin;
 pub use results::{Results, RunInfo};
 pub use screens::ScreenSet;
+pub use summary::{MeanP95Max, Outcomes, Runout, ScreenSummary, Summary, TimeStats};
 pub use tally::Tally;
 pub use write::{ROCKS_HEADER, ResultsError, TRAJECTORY_HEADER, write_json};
 

@@ -3,7 +3,7 @@
 use rockfall_raster::{Grid, SampleType};
 
 use crate::cells::CellStats;
-use crate::{Layout, RockRecord, Tally, TrajectoryRow};
+use crate::{Layout, Parameters, RockRecord, Tally, TrajectoryRow};
 
 /// Nodata marker written into the float rasters.
 pub(crate) const NODATA: f64 = -9999.0;
@@ -21,8 +21,8 @@ pub struct RunInfo {
     pub threads: usize,
     /// Wall-clock time of the simulation, s.
     pub wall_time_s: f64,
-    /// Engine parameters etc., written under the key `parameters` of `summary.json`.
-    pub extra: serde_json::Map<String, serde_json::Value>,
+    /// Engine parameters, written under the key `parameters` of `summary.json`.
+    pub parameters: Parameters,
 }
 
 /// One raster of [`Results`]: what it shows.

@@ -1,64 +1,179 @@
-//! `summary.json`.
+//! `summary.json`: the [`Summary`] of a run, one field per key.
 
-use serde_json::{Map, Value, json};
+use serde::{Deserialize, Serialize};
 
 use crate::Results;
 use crate::hist::Stat;
-use crate::tally::OUTCOME_NAMES;
+use crate::parameters::Parameters;
 
-/// A number, or `null` when undefined (no values, non-finite).
-pub(crate) fn num(v: Option<f64>) -> Value {
-    v.filter(|x| x.is_finite()).map_or(Value::Null, Value::from)
+/// `v` when it is a finite number; `None` (written `null`) when undefined or not finite.
+pub(crate) fn finite(v: Option<f64>) -> Option<f64> {
+    v.filter(|x| x.is_finite())
 }
 
-/// `part / whole`, `null` when `whole` is 0.
-pub(crate) fn fraction(part: u64, whole: u64) -> Value {
-    num((whole > 0).then(|| part as f64 / whole as f64))
+/// `part / whole`, `None` (written `null`) when `whole` is 0.
+pub(crate) fn fraction(part: u64, whole: u64) -> Option<f64> {
+    finite((whole > 0).then(|| part as f64 / whole as f64))
 }
 
-/// {mean, p95, max} of a statistic, every value divided by `divisor`.
-fn mean_p95_max(s: &Stat, divisor: f64) -> Value {
-    json!({
-        "mean": num(s.mean().map(|v| v / divisor)),
-        "p95": num(s.percentile(95.0).map(|v| v / divisor)),
-        "max": num(s.max().map(|v| v / divisor)),
-    })
+/// `summary.json` of a run: the headline numbers, per screen, and the engine's parameters.
+/// Units are in the names. Undefined statistics (no rocks, no crossings) are `None`, written
+/// `null`, never NaN; fractions are `None` when no rock was simulated.
+///
+/// Written with its keys sorted ([`crate::write_json`]). Only `threads`, `wall_time_s` and
+/// `trajectories_per_s` depend on how the run was parallelised.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Summary {
+    /// Engine name: `lumped` or `rigid`.
+    pub engine: String,
+    /// Scenario name.
+    pub scenario: String,
+    /// Version of rockfall that wrote the summary.
+    pub version: String,
+    /// Master seed.
+    pub seed: u64,
+    /// Rocks simulated.
+    pub rocks: u64,
+    /// Worker threads used.
+    pub threads: u64,
+    /// Wall-clock time of the simulation, s.
+    pub wall_time_s: Option<f64>,
+    /// Rocks per second of wall-clock time (`None` for a zero wall time).
+    pub trajectories_per_s: Option<f64>,
+    /// Share of rocks stopped inside the DEM, nets included.
+    pub stopped_fraction: Option<f64>,
+    /// Share of rocks stopped by a net.
+    pub net_stopped_fraction: Option<f64>,
+    /// Share of rocks that left the DEM.
+    pub left_dem_fraction: Option<f64>,
+    /// Share of rocks still moving at the time limit.
+    pub time_limit_fraction: Option<f64>,
+    /// Share of rocks the engine gave up on.
+    pub failed_fraction: Option<f64>,
+    /// Rocks per outcome.
+    pub outcomes: Outcomes,
+    /// Run-out (horizontal distance from release to end point) over rocks, m.
+    pub runout_m: Runout,
+    /// Each rock's largest translational speed, over rocks, m/s.
+    pub max_velocity_ms: MeanP95Max,
+    /// Each rock's largest jump height (centre above the ground), over rocks, m.
+    pub max_jump_height_m: MeanP95Max,
+    /// Simulated time per rock, s.
+    pub time_s: TimeStats,
+    /// Tree impacts per rock.
+    pub tree_impacts_per_rock: Option<f64>,
+    /// Stems broken per rock.
+    pub stems_broken_per_rock: Option<f64>,
+    /// Ground rebounds per rock.
+    pub rebounds_per_rock: Option<f64>,
+    /// Cells visited by at least one rock.
+    pub cells_reached: u64,
+    /// Rows of `trajectories.csv`.
+    pub trajectory_rows: u64,
+    /// The evaluation screens, in scenario order.
+    pub screens: Vec<ScreenSummary>,
+    /// Relative error bound of the percentiles inside the histograms' ranges
+    /// ([`crate::PERCENTILE_RELATIVE_ERROR`]).
+    pub percentile_relative_error: f64,
+    /// The engine's parameters.
+    pub parameters: Parameters,
+}
+
+/// Mean, 95th percentile and maximum of a statistic (`None` without values).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct MeanP95Max {
+    /// Mean.
+    pub mean: Option<f64>,
+    /// 95th percentile (from the histogram, see the crate docs).
+    pub p95: Option<f64>,
+    /// Maximum (exact).
+    pub max: Option<f64>,
+}
+
+impl MeanP95Max {
+    /// {mean, p95, max} of `s`, every value divided by `divisor`.
+    fn of(s: &Stat, divisor: f64) -> MeanP95Max {
+        MeanP95Max {
+            mean: finite(s.mean().map(|v| v / divisor)),
+            p95: finite(s.percentile(95.0).map(|v| v / divisor)),
+            max: finite(s.max().map(|v| v / divisor)),
+        }
+    }
+}
+
+/// Run-out over rocks, m (`None` without rocks).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Runout {
+    /// Median.
+    pub p50: Option<f64>,
+    /// 95th percentile.
+    pub p95: Option<f64>,
+    /// Longest.
+    pub max: Option<f64>,
+    /// Mean.
+    pub mean: Option<f64>,
+}
+
+/// Simulated time per rock, s (`None` without rocks).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct TimeStats {
+    /// Mean.
+    pub mean: Option<f64>,
+    /// Longest.
+    pub max: Option<f64>,
+}
+
+/// Rocks per outcome, keyed by [`crate::Outcome::name`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct Outcomes {
+    /// Came to rest inside the DEM.
+    pub stopped: u64,
+    /// Stopped by a net.
+    pub net_stopped: u64,
+    /// Left the DEM.
+    pub left_dem: u64,
+    /// Still moving at the time limit.
+    pub time_limit: u64,
+    /// The engine gave up on the rock.
+    pub failed: u64,
+}
+
+/// What crossed one evaluation screen. The statistics are over every crossing (a rock
+/// crossing twice contributes twice).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct ScreenSummary {
+    /// Screen name, as in the scenario.
+    pub name: String,
+    /// Distinct rocks that crossed / rocks (`None` without rocks).
+    pub passed_fraction: Option<f64>,
+    /// Distinct rocks that crossed.
+    pub rocks_passed: u64,
+    /// Crossings.
+    pub crossings: u64,
+    /// Translational speed at the crossings, m/s.
+    pub velocity_ms: MeanP95Max,
+    /// Kinetic energy at the crossings, kJ.
+    pub energy_kj: MeanP95Max,
+    /// Height of the rock centre above the ground at the crossings, m.
+    pub jump_height_m: MeanP95Max,
 }
 
 impl Results {
-    /// `summary.json` as a JSON value (keys sorted). Undefined statistics (no rocks, no
-    /// crossings) are `null`, never NaN.
-    ///
-    /// Keys (units in the names): `engine`, `scenario`, `version`, `seed`, `rocks`, `threads`,
-    /// `wall_time_s`, `trajectories_per_s`; `stopped_fraction` (stopped inside the DEM, nets
-    /// included), `net_stopped_fraction`, `left_dem_fraction`, `time_limit_fraction`,
-    /// `failed_fraction`, `outcomes` (counts); `runout_m` {`p50`,`p95`,`max`,`mean`},
-    /// `max_velocity_ms` and `max_jump_height_m` {`mean`,`p95`,`max`} over rocks of each
-    /// rock's maximum; `time_s` {`mean`,`max`}; `tree_impacts_per_rock`,
-    /// `stems_broken_per_rock`, `rebounds_per_rock`; `cells_reached`,
-    /// `trajectory_rows`; `screens`: per screen {`name`, `passed_fraction` (distinct
-    /// rocks that crossed / rocks), `rocks_passed`, `crossings`, `velocity_ms`, `energy_kj`,
-    /// `jump_height_m`}, the last three {`mean`,`p95`,`max`} over every crossing (a rock
-    /// crossing twice contributes twice); `percentile_relative_error`; `parameters`.
-    ///
-    /// Only `threads`, `wall_time_s` and `trajectories_per_s` depend on how the run was
-    /// parallelised.
-    pub fn summary_json(&self) -> Value {
+    /// The run's `summary.json` (see [`Summary`]).
+    pub fn summary(&self) -> Summary {
         let r = &self.tally.rock;
         let rocks = r.rocks();
-        let [stopped, net, left, time_limit, failed] = r.outcomes;
+        let [stopped, net_stopped, left_dem, time_limit, failed] = r.outcomes;
         let per_rock = |n: u64| fraction(n, rocks);
-        let screens: Vec<Value> = (self.layout.screens.iter().zip(&self.tally.screens))
-            .map(|(screen, s)| {
-                json!({
-                    "name": screen.name,
-                    "passed_fraction": fraction(s.rocks, rocks),
-                    "rocks_passed": s.rocks,
-                    "crossings": s.velocity.count(),
-                    "velocity_ms": mean_p95_max(&s.velocity, 1.0),
-                    "energy_kj": mean_p95_max(&s.energy, 1e3),
-                    "jump_height_m": mean_p95_max(&s.height, 1.0),
-                })
+        let screens = (self.layout.screens.iter().zip(&self.tally.screens))
+            .map(|(screen, s)| ScreenSummary {
+                name: screen.name.clone(),
+                passed_fraction: fraction(s.rocks, rocks),
+                rocks_passed: s.rocks,
+                crossings: s.velocity.count(),
+                velocity_ms: MeanP95Max::of(&s.velocity, 1.0),
+                energy_kj: MeanP95Max::of(&s.energy, 1e3),
+                jump_height_m: MeanP95Max::of(&s.height, 1.0),
             })
             .collect();
         let info = &self.info;
@@ -66,53 +181,53 @@ impl Results {
         let cells_reached = (self.tally.cells.touched().iter())
             .filter(|c| c.visits > 0)
             .count();
-        let mut m = Map::new();
-        let mut put = |k: &str, v: Value| {
-            m.insert(k.to_string(), v);
-        };
-        put("engine", json!(info.engine));
-        put("scenario", json!(info.scenario));
-        put("version", json!(env!("CARGO_PKG_VERSION")));
-        put("seed", json!(info.seed));
-        put("rocks", json!(rocks));
-        put("threads", json!(info.threads));
-        put("wall_time_s", num(Some(info.wall_time_s)));
-        put("trajectories_per_s", num(per_s));
-        put("stopped_fraction", fraction(stopped + net, rocks));
-        put("net_stopped_fraction", fraction(net, rocks));
-        put("left_dem_fraction", fraction(left, rocks));
-        put("time_limit_fraction", fraction(time_limit, rocks));
-        put("failed_fraction", fraction(failed, rocks));
-        let outcomes = (OUTCOME_NAMES.iter().zip(r.outcomes))
-            .map(|(name, n)| (name.to_string(), json!(n)))
-            .collect();
-        put("outcomes", Value::Object(outcomes));
-        put(
-            "runout_m",
-            json!({
-                "p50": num(r.runout.percentile(50.0)),
-                "p95": num(r.runout.percentile(95.0)),
-                "max": num(r.runout.max()),
-                "mean": num(r.runout.mean()),
-            }),
-        );
-        put("max_velocity_ms", mean_p95_max(&r.max_velocity, 1.0));
-        put("max_jump_height_m", mean_p95_max(&r.max_jump, 1.0));
-        put(
-            "time_s",
-            json!({ "mean": num(r.time.mean()), "max": num(r.time.max()) }),
-        );
-        put("tree_impacts_per_rock", per_rock(r.tree_impacts));
-        put("stems_broken_per_rock", per_rock(r.stems_broken));
-        put("rebounds_per_rock", per_rock(r.rebounds));
-        put("cells_reached", json!(cells_reached));
-        put("trajectory_rows", json!(self.rows.len()));
-        put("screens", Value::Array(screens));
-        put(
-            "percentile_relative_error",
-            json!(crate::PERCENTILE_RELATIVE_ERROR),
-        );
-        put("parameters", Value::Object(info.extra.clone()));
-        Value::Object(m)
+        Summary {
+            engine: info.engine.clone(),
+            scenario: info.scenario.clone(),
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            seed: info.seed,
+            rocks,
+            threads: info.threads as u64,
+            wall_time_s: finite(Some(info.wall_time_s)),
+            trajectories_per_s: finite(per_s),
+            stopped_fraction: fraction(stopped + net_stopped, rocks),
+            net_stopped_fraction: fraction(net_stopped, rocks),
+            left_dem_fraction: fraction(left_dem, rocks),
+            time_limit_fraction: fraction(time_limit, rocks),
+            failed_fraction: fraction(failed, rocks),
+            outcomes: Outcomes {
+                stopped,
+                net_stopped,
+                left_dem,
+                time_limit,
+                failed,
+            },
+            runout_m: Runout {
+                p50: finite(r.runout.percentile(50.0)),
+                p95: finite(r.runout.percentile(95.0)),
+                max: finite(r.runout.max()),
+                mean: finite(r.runout.mean()),
+            },
+            max_velocity_ms: MeanP95Max::of(&r.max_velocity, 1.0),
+            max_jump_height_m: MeanP95Max::of(&r.max_jump, 1.0),
+            time_s: TimeStats {
+                mean: finite(r.time.mean()),
+                max: finite(r.time.max()),
+            },
+            tree_impacts_per_rock: per_rock(r.tree_impacts),
+            stems_broken_per_rock: per_rock(r.stems_broken),
+            rebounds_per_rock: per_rock(r.rebounds),
+            cells_reached: cells_reached as u64,
+            trajectory_rows: self.rows.len() as u64,
+            screens,
+            percentile_relative_error: crate::PERCENTILE_RELATIVE_ERROR,
+            parameters: info.parameters.clone(),
+        }
+    }
+
+    /// [`Results::summary`] as a JSON value (keys sorted), as `summary.json` holds it.
+    pub fn summary_json(&self) -> serde_json::Value {
+        // cannot fail: every map of a summary is keyed by strings
+        serde_json::to_value(self.summary()).unwrap_or_default()
     }
 }

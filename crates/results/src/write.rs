@@ -4,6 +4,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use rockfall_raster::{Grid, RasterError, SampleType, atomic, write_grid};
+use serde::Serialize;
 
 use crate::{Results, RockRecord, TrajectoryRow};
 
@@ -78,12 +79,16 @@ pub(crate) fn write_raster(
     Ok(())
 }
 
-/// Writes a JSON value, pretty-printed with a final newline, to `path` atomically.
-pub fn write_json(path: &Path, value: &serde_json::Value) -> Result<(), ResultsError> {
-    let mut text = serde_json::to_string_pretty(value).map_err(|e| ResultsError::Io {
+/// Writes `value` as JSON, pretty-printed with a final newline, to `path` atomically. The value
+/// goes through a [`serde_json::Value`] first, so the keys of every object come out sorted
+/// (serde_json's maps are ordered by key), whatever the order of a struct's fields.
+pub fn write_json(path: &Path, value: &impl Serialize) -> Result<(), ResultsError> {
+    let json_error = |e| ResultsError::Io {
         path: path.to_path_buf(),
         source: std::io::Error::other(e),
-    })?;
+    };
+    let value = serde_json::to_value(value).map_err(json_error)?;
+    let mut text = serde_json::to_string_pretty(&value).map_err(json_error)?;
     text.push('\n');
     atomic::write_bytes_atomic(path, text.as_bytes()).map_err(ResultsError::from)
 }
@@ -178,7 +183,7 @@ impl Results {
             write_raster(out_dir, &name, &grid, sample, ascii, &mut written)?;
         }
         let summary = out_dir.join("summary.json");
-        write_json(&summary, &self.summary_json())?;
+        write_json(&summary, &self.summary())?;
         written.push(summary);
         let csv = out_dir.join("trajectories.csv");
         write_trajectories(&csv, &self.rows)?;

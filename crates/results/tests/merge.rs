@@ -28,7 +28,7 @@ fn results(tally: Tally, threads: usize, wall: f64) -> Results {
         seed: 42,
         threads,
         wall_time_s: wall,
-        extra: serde_json::Map::new(),
+        parameters: Default::default(),
     };
     Results::new(&layout(), tally, info)
 }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{layout, simulate_rock};
+use common::{layout, rigid_parameters, simulate_rock};
 use rockfall_raster::read_grid;
 use rockfall_results::{ForestEffect, Results, RunInfo, TRAJECTORY_HEADER, Tally};
 
@@ -13,15 +13,13 @@ fn run(rocks: std::ops::Range<u64>) -> Results {
     for i in rocks {
         simulate_rock(&mut t, i);
     }
-    let mut extra = serde_json::Map::new();
-    extra.insert("dt_s".into(), serde_json::json!(0.01));
     let info = RunInfo {
-        engine: "lumped".into(),
+        engine: "rigid".into(),
         scenario: "unit".into(),
         seed: 7,
         threads: 2,
         wall_time_s: 0.5,
-        extra,
+        parameters: rigid_parameters(0.01),
     };
     Results::new(&layout(), t, info)
 }
@@ -103,7 +101,7 @@ fn write_round_trips_and_replaces_old_files() {
     for k in ["mean", "max"] {
         assert!(s["max_velocity_ms"][k].is_number() && s["max_jump_height_m"][k].is_number());
     }
-    assert_eq!(s["engine"], "lumped");
+    assert_eq!(s["engine"], "rigid");
     assert_eq!(s["parameters"]["dt_s"], 0.01);
     assert_eq!(s["trajectories_per_s"], 400.0);
     for screen in s["screens"].as_array().unwrap() {

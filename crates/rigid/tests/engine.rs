@@ -38,7 +38,7 @@ fn run(scenario: &Scenario, forest: Option<&Forest>, threads: usize) -> Results 
         seed: scenario.seed,
         threads,
         wall_time_s: start.elapsed().as_secs_f64(),
-        extra: Default::default(),
+        parameters: Default::default(),
     };
     Results::new(&layout, tally, info)
 }

@@ -1,7 +1,28 @@
 //! Engine choice and the plain parameter sets of a scenario, with their documented defaults.
 
+use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
+
+/// Serialises a settings enum as its scenario-file name (`name()`) and reads it back with its
+/// `FromStr`, so that `summary.json` and the scenario file spell it alike.
+macro_rules! serde_by_name {
+    ($t:ty) => {
+        impl Serialize for $t {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+                s.serialize_str(self.name())
+            }
+        }
+
+        impl<'de> Deserialize<'de> for $t {
+            fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                String::deserialize(d)?
+                    .parse()
+                    .map_err(serde::de::Error::custom)
+            }
+        }
+    };
+}
 
 /// Which engine simulates the rocks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -35,7 +56,8 @@ impl fmt::Display for Engine {
     }
 }
 
-/// How the mean obstacle height (MOH) of a rebound is chosen (seed 000 §2.5).
+/// How the mean obstacle height (MOH) of a rebound is chosen (seed 000 §2.5). Serialised as
+/// its [`name`](MohMode::name).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum MohMode {
     /// Draw rg70 / rg20 / rg10 with probability 0.7 / 0.2 / 0.1 at each rebound (default).
@@ -55,6 +77,8 @@ impl MohMode {
     }
 }
 
+serde_by_name!(MohMode);
+
 impl FromStr for MohMode {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
@@ -71,7 +95,8 @@ impl FromStr for MohMode {
 }
 
 /// How a ground rebound sets the outgoing tangential speed from r_t (seed 000 §2.5: "modified
-/// from Pfeiffer and Bowen (1989), as presented in Dorren et al. (2004)").
+/// from Pfeiffer and Bowen (1989), as presented in Dorren et al. (2004)"). Serialised as its
+/// [`name`](TangentialLaw::name).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum TangentialLaw {
     /// Pfeiffer & Bowen 1989 (CRSP) with r_t in place of their friction and scaling factors:
@@ -95,6 +120,8 @@ impl TangentialLaw {
     }
 }
 
+serde_by_name!(TangentialLaw);
+
 impl FromStr for TangentialLaw {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
@@ -107,12 +134,15 @@ impl FromStr for TangentialLaw {
     }
 }
 
-/// Settings of the lumped engine (seed 000 §2.3–2.5).
-#[derive(Debug, Clone, PartialEq)]
+/// Settings of the lumped engine (seed 000 §2.3–2.5). Serialised with the keys of the scenario
+/// file's `[lumped]` section.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LumpedSettings {
     /// MOH per rebound: drawn from the cover classes (default) or their weighted mean.
     pub moh: MohMode,
-    /// How r_t sets the outgoing tangential speed (default Pfeiffer & Bowen).
+    /// How r_t sets the outgoing tangential speed (default Pfeiffer & Bowen); scenario key
+    /// `tangential_law`.
+    #[serde(rename = "tangential_law")]
     pub tangential: TangentialLaw,
     /// Relative uniform variation of r_t at each rebound (seed 000 §2.5: ±10 % → 0.1).
     pub rt_variation: f64,
@@ -167,8 +197,9 @@ impl LumpedSettings {
 }
 
 /// Contact law parameters of one contact type (seed 001 §2: Newton impact law with
-/// restitution ε_N, ε_T and Coulomb friction μ).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// restitution ε_N, ε_T and Coulomb friction μ). Serialised with the keys of the scenario
+/// file's `[contact.ground]` and `[contact.tree]` sections.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ContactParams {
     /// Coulomb friction coefficient μ ≥ 0.
     pub mu: f64,
@@ -180,7 +211,8 @@ pub struct ContactParams {
 
 /// RAMMS "slippage" friction for soft ground (Leine et al. 2014):
 /// `μ(s) = μ_min + (2/π)(μ_max − μ_min)·atan(κ s)`, `ṡ = |v|` in contact, `ṡ = −β s` in flight.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Serialised with the keys of the scenario file's `[contact.slippage]` section.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Slippage {
     /// μ at zero slippage.
     pub mu_min: f64,
@@ -222,8 +254,9 @@ impl Default for ContactSettings {
 }
 
 /// Settings of the rigid engine beyond its contact laws and time step: the prox solver (seed
-/// 001 §2; Leine et al. 2014), when a rock is at rest, and optional damping.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// 001 §2; Leine et al. 2014), when a rock is at rest, and optional damping. Serialised with the
+/// keys of the scenario file's `[rigid]` section.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RigidParams {
     /// Relaxation α ∈ (0, 2) of the prox r-factors r = α/G_ii (default 1).
     pub solver_alpha: f64,
@@ -315,5 +348,48 @@ impl Default for OutputSettings {
             rocks_csv: false,
             percentiles: vec![50.0, 90.0, 95.0, 98.0, 99.0],
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn settings_serialise_with_the_scenario_file_keys_and_names() {
+        let l = LumpedSettings {
+            moh: MohMode::Mean,
+            tangential: TangentialLaw::VelocityRatio,
+            ..LumpedSettings::default()
+        };
+        let v = serde_json::to_value(&l).unwrap();
+        assert_eq!(v["moh"], "mean");
+        assert_eq!(v["tangential_law"], "velocity-ratio");
+        assert!(v.get("tangential").is_none());
+        assert_eq!(serde_json::from_value::<LumpedSettings>(v).unwrap(), l);
+        let bad = serde_json::json!("sideways");
+        let e = serde_json::from_value::<TangentialLaw>(bad).unwrap_err();
+        assert!(e.to_string().contains("pfeiffer-bowen"), "{e}");
+
+        let r = RigidParams::default();
+        let v = serde_json::to_value(r).unwrap();
+        let mut keys: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
+        keys.sort_unstable();
+        assert_eq!(
+            keys,
+            [
+                "angular_damping_per_s",
+                "linear_damping_per_s",
+                "max_speed_ms",
+                "rest_time_s",
+                "solver_alpha",
+                "solver_max_iterations",
+                "solver_tolerance_ms",
+                "stop_speed_ms",
+                "warm_start"
+            ]
+        );
+        assert_eq!(serde_json::from_value::<RigidParams>(v).unwrap(), r);
     }
 }

@@ -21,7 +21,7 @@ pub use rock::RigidRock;
 use rockfall_engine::{Engine, Plan, PoolError, RockSet};
 use rockfall_forest::Forest;
 use rockfall_lumped::LumpedModel;
-use rockfall_results::{Layout, Results, RunInfo, Tally};
+use rockfall_results::{Layout, Parameters, Results, RunInfo, Tally};
 use rockfall_rigid::RigidModel;
 use rockfall_scenario::{Engine as EngineKind, Scenario, ScenarioError};
 use std::path::PathBuf;
@@ -259,13 +259,10 @@ pub fn run(
         seed: scenario.seed,
         threads: opts.threads,
         wall_time_s: started.elapsed().as_secs_f64(),
-        extra: parameters,
+        parameters,
     };
     Ok(Results::new(&layout, tally, info))
 }
-
-/// The engine parameters written into `summary.json`.
-type Parameters = serde_json::Map<String, serde_json::Value>;
 
 /// The tally of `rocks` (none: all) of `scenario` with `forest` on `layout`, and the engine
 /// parameters of the run.
@@ -284,7 +281,10 @@ fn tally(
             let model = LumpedModel::new(scenario, forest).map_err(bad)?;
             let plan = Plan::new(model, scenario).map_err(bad)?;
             let tally = run_plan(&plan, layout, rocks, opts)?;
-            Ok((tally, parameters::lumped(scenario, &plan)))
+            Ok((
+                tally,
+                Parameters::Lumped(parameters::lumped(scenario, &plan)),
+            ))
         }
         EngineKind::Rigid => {
             let bad = |e: rockfall_rigid::RigidError| {
@@ -293,7 +293,10 @@ fn tally(
             let model = RigidModel::new(scenario, forest).map_err(bad)?;
             let plan = Plan::new(model, scenario).map_err(bad)?;
             let tally = run_plan(&plan, layout, rocks, opts)?;
-            Ok((tally, parameters::rigid(scenario, plan.engine())))
+            Ok((
+                tally,
+                Parameters::Rigid(parameters::rigid(scenario, plan.engine())),
+            ))
         }
     }
 }

@@ -16,8 +16,8 @@
 //!
 //! [`run::run_validation`] runs it all through the driver (`rockfall_sim`), each run written
 //! as a run folder, and [`sensitivity`] reruns each site with one unknown of the
-//! reconstruction or one rule of ours moved; the comparisons work on `summary.json` values,
-//! per-rock records and slope-study statistics.
+//! reconstruction or one rule of ours moved; the comparisons work on run summaries
+//! (`rockfall_results::Summary`, as in `summary.json`), per-rock records and slope-study statistics.
 
 pub mod case;
 pub mod fair;

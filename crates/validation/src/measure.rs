@@ -14,9 +14,8 @@
 //! - **at a screen** (table 3): mean and maximum over the crossings of the screen of the
 //!   translational velocity, rebound height and kinetic energy (translational + rotational).
 
-use rockfall_results::{Outcome, RockRecord};
+use rockfall_results::{Outcome, RockRecord, ScreenSummary, Summary};
 use rockfall_sites::vaujany::{ROAD_START_ALONG_M, along_at_y};
-use serde_json::Value;
 use std::collections::BTreeMap;
 
 /// Name of the screen on the lower edge of the road in the built-in sites.
@@ -29,39 +28,27 @@ fn put(m: &mut BTreeMap<String, f64>, key: &str, v: Option<f64>) {
 }
 
 /// The screen of `summary.json` named `name`.
-fn screen<'a>(summary: &'a Value, name: &str) -> Option<&'a Value> {
-    summary["screens"]
-        .as_array()?
-        .iter()
-        .find(|s| s["name"].as_str() == Some(name))
+fn screen<'a>(summary: &'a Summary, name: &str) -> Option<&'a ScreenSummary> {
+    summary.screens.iter().find(|s| s.name == name)
 }
 
 /// Table 2's quantities (keys of [`crate::observed`]) of a run on a Vaujany site, from its
 /// `summary.json` and per-rock records. Quantities that cannot be computed are left out.
-pub fn slope_quantities(summary: &Value, records: &[RockRecord]) -> BTreeMap<String, f64> {
+pub fn slope_quantities(summary: &Summary, records: &[RockRecord]) -> BTreeMap<String, f64> {
     let mut m = BTreeMap::new();
-    let f = |v: &Value| v.as_f64();
-    put(
-        &mut m,
-        "mean_max_velocity_ms",
-        f(&summary["max_velocity_ms"]["mean"]),
-    );
-    put(
-        &mut m,
-        "max_velocity_ms",
-        f(&summary["max_velocity_ms"]["max"]),
-    );
+    put(&mut m, "mean_max_velocity_ms", summary.max_velocity_ms.mean);
+    put(&mut m, "max_velocity_ms", summary.max_velocity_ms.max);
     put(
         &mut m,
         "max_rebound_height_m",
-        f(&summary["max_jump_height_m"]["max"]),
+        summary.max_jump_height_m.max,
     );
     put(
         &mut m,
         "tree_impacts_per_rock",
-        f(&summary["tree_impacts_per_rock"]),
+        summary.tree_impacts_per_rock,
     );
-    let passed = screen(summary, ROAD_SCREEN).and_then(|s| s["passed_fraction"].as_f64());
+    let passed = screen(summary, ROAD_SCREEN).and_then(|s| s.passed_fraction);
     put(&mut m, "passed_lower_road_pct", passed.map(|p| 100.0 * p));
     put(
         &mut m,
@@ -84,19 +71,18 @@ pub fn stopped_within_pct(records: &[RockRecord], along_m: f64) -> Option<f64> {
 
 /// Table 3's quantities at screen `name` of a run's `summary.json`; empty when no rock
 /// crossed it.
-pub fn screen_quantities(summary: &Value, name: &str) -> BTreeMap<String, f64> {
+pub fn screen_quantities(summary: &Summary, name: &str) -> BTreeMap<String, f64> {
     let mut m = BTreeMap::new();
     let Some(s) = screen(summary, name) else {
         return m;
     };
-    for (ours, key) in [
-        ("velocity_ms", "velocity_ms"),
-        ("rebound_height_m", "jump_height_m"),
-        ("energy_kj", "energy_kj"),
+    for (ours, q) in [
+        ("velocity_ms", &s.velocity_ms),
+        ("rebound_height_m", &s.jump_height_m),
+        ("energy_kj", &s.energy_kj),
     ] {
-        for stat in ["mean", "max"] {
-            put(&mut m, &format!("{stat}_{ours}"), s[key][stat].as_f64());
-        }
+        put(&mut m, &format!("mean_{ours}"), q.mean);
+        put(&mut m, &format!("max_{ours}"), q.max);
     }
     m
 }
@@ -136,9 +122,8 @@ pub fn tree_impact_counts(records: &[RockRecord]) -> Vec<u64> {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use rockfall_results::RockEnd;
+    use rockfall_results::{MeanP95Max, RockEnd};
     use rockfall_sites::vaujany::d_at_along;
-    use serde_json::json;
 
     fn record(id: u64, outcome: Outcome, along_m: f64, trees: u32) -> RockRecord {
         let y = 6_460_400.0 - d_at_along(along_m);
@@ -197,17 +182,31 @@ mod tests {
 
     #[test]
     fn quantities_come_from_the_summary_keys() {
-        let summary = json!({
-            "max_velocity_ms": {"mean": 15.0, "max": 30.0},
-            "max_jump_height_m": {"mean": 1.0, "max": 7.5},
-            "tree_impacts_per_rock": 2.5,
-            "screens": [
-                {"name": "screen_185m", "velocity_ms": {"mean": 12.0, "max": 28.0},
-                 "jump_height_m": {"mean": 1.4, "max": 5.0},
-                 "energy_kj": {"mean": 200.0, "max": null}},
-                {"name": "lower_road", "passed_fraction": 0.74},
+        let stats = |mean, max| MeanP95Max {
+            mean: Some(mean),
+            p95: None,
+            max,
+        };
+        let summary = Summary {
+            max_velocity_ms: stats(15.0, Some(30.0)),
+            max_jump_height_m: stats(1.0, Some(7.5)),
+            tree_impacts_per_rock: Some(2.5),
+            screens: vec![
+                ScreenSummary {
+                    name: "screen_185m".into(),
+                    velocity_ms: stats(12.0, Some(28.0)),
+                    jump_height_m: stats(1.4, Some(5.0)),
+                    energy_kj: stats(200.0, None),
+                    ..ScreenSummary::default()
+                },
+                ScreenSummary {
+                    name: "lower_road".into(),
+                    passed_fraction: Some(0.74),
+                    ..ScreenSummary::default()
+                },
             ],
-        });
+            ..Summary::default()
+        };
         let recs = [record(0, Outcome::Stopped { cell: 0 }, 10.0, 0)];
         let m = slope_quantities(&summary, &recs);
         assert_eq!(m["mean_max_velocity_ms"], 15.0);

@@ -158,7 +158,7 @@ fn vaujany_cases(
     let dir = out.join(name);
     let files = rockfall_report::write_run(&dir, false, &input)?;
     observer.wrote(&dir, &files);
-    let summary = results.summary_json();
+    let summary = results.summary();
     let records = results.rock_records();
     let site_published: Vec<_> = published().into_iter().filter(|p| p.site == name).collect();
     let site_rocks = site_published.iter().find_map(|p| p.observed_rocks);

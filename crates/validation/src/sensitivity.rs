@@ -100,8 +100,7 @@ pub fn sensitivity(
             };
             let label = format!("{name} sensitivity: {} {}", v.unknown, v.setting);
             let results = Simulation::new(s, &overrides)?.run(true, &label, observer)?;
-            let simulated =
-                measure::slope_quantities(&results.summary_json(), results.rock_records());
+            let simulated = measure::slope_quantities(&results.summary(), results.rock_records());
             let mut case = CaseReport::compare(&table2, "lumped", results.rocks(), &simulated);
             if let Some(n) = table2.observed_rocks {
                 case.add_fair(&fair::group_maxima(&results, None, n), n);

@@ -4,7 +4,7 @@
 
 use crate::case::{CaseReport, Check, Row};
 use rockfall_lab::slope::{SlopeStats, ranking};
-use serde_json::Value;
+use rockfall_results::Summary;
 
 /// The shapes of seed 001 table 2, in its order.
 pub const SHAPES: [&str; 3] = ["cubic1.2", "flat2.2", "long2.2"];
@@ -12,10 +12,15 @@ pub const SHAPES: [&str; 3] = ["cubic1.2", "flat2.2", "long2.2"];
 /// The case of a shape study: per shape its run-out and spread (no observed values), and the
 /// paper's three findings checked against them. `summaries` are the runs' `summary.json`, in
 /// the order of `stats`.
-pub fn shape_case(name: &str, stats: &[SlopeStats], summaries: &[Value], rocks: u64) -> CaseReport {
+pub fn shape_case(
+    name: &str,
+    stats: &[SlopeStats],
+    summaries: &[Summary],
+    rocks: u64,
+) -> CaseReport {
     let mut rows = Vec::new();
     for (s, summary) in stats.iter().zip(summaries) {
-        let stopped = summary["stopped_fraction"].as_f64().map(|f| 100.0 * f);
+        let stopped = summary.stopped_fraction.map(|f| 100.0 * f);
         for (key, what, v) in [
             (
                 "runout_p50_m",
@@ -49,18 +54,12 @@ pub fn shape_case(name: &str, stats: &[SlopeStats], summaries: &[Value], rocks: 
         }
     }
     let rank = ranking(stats);
-    let check = |claim: &str, key: &str| {
-        let paper = rank["paper"][key].as_str().unwrap_or("–").to_string();
-        let ours_key = if key == "farthest_runout" {
-            "farthest_runout_p95"
-        } else {
-            key
-        };
-        let simulated = rank[ours_key].as_str().unwrap_or("–").to_string();
+    let check = |claim: &str, paper: &str, simulated: &Option<String>| {
+        let simulated = simulated.as_deref().unwrap_or("–").to_string();
         Check {
             claim: claim.to_string(),
             holds: paper == simulated,
-            paper,
+            paper: paper.to_string(),
             simulated,
         }
     };
@@ -75,9 +74,21 @@ pub fn shape_case(name: &str, stats: &[SlopeStats], summaries: &[Value], rocks: 
         rmse_pct_fair: None,
         groups: Vec::new(),
         checks: vec![
-            check("farthest run-out (p95)", "farthest_runout"),
-            check("widest lateral spread", "widest_spread"),
-            check("least lateral spread", "least_spread"),
+            check(
+                "farthest run-out (p95)",
+                rank.paper.farthest_runout,
+                &rank.farthest_runout_p95,
+            ),
+            check(
+                "widest lateral spread",
+                rank.paper.widest_spread,
+                &rank.widest_spread,
+            ),
+            check(
+                "least lateral spread",
+                rank.paper.least_spread,
+                &rank.least_spread,
+            ),
         ],
         notes: vec![
             "the shapes are stand-in ellipsoids of seed 001's aspect ratios, not its scanned \
@@ -91,7 +102,6 @@ pub fn shape_case(name: &str, stats: &[SlopeStats], summaries: &[Value], rocks: 
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use serde_json::json;
 
     fn stats(label: &str, p95: f64, width: f64) -> SlopeStats {
         SlopeStats {
@@ -110,7 +120,11 @@ mod tests {
             stats("flat2.2", 350.0, 120.0),
             stats("long2.2", 200.0, 50.0),
         ];
-        let sums = vec![json!({"stopped_fraction": 0.9}); 3];
+        let summary = Summary {
+            stopped_fraction: Some(0.9),
+            ..Summary::default()
+        };
+        let sums = vec![summary; 3];
         let c = shape_case("forest-slope-40", &st, &sums, 10);
         assert!(c.checks.iter().all(|c| c.holds), "{:?}", c.checks);
         assert_eq!(c.rows.len(), 12);

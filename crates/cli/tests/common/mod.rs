@@ -75,3 +75,18 @@ pub fn json(path: &Path) -> serde_json::Value {
 pub fn is_png(path: &Path) -> bool {
     std::fs::read(path).is_ok_and(|b| b.starts_with(b"\x89PNG\r\n\x1a\n") && b.len() > 2000)
 }
+
+/// The `summary.json` at `path` read as a typed summary, after checking that the summary
+/// written again gives the file's text byte for byte.
+pub fn typed_summary(path: &Path) -> rockfall_results::Summary {
+    let text = std::fs::read_to_string(path).unwrap();
+    let summary: rockfall_results::Summary = serde_json::from_str(&text).unwrap();
+    let again = serde_json::to_value(&summary).unwrap();
+    assert_eq!(
+        serde_json::to_string_pretty(&again).unwrap() + "\n",
+        text,
+        "{}",
+        path.display()
+    );
+    summary
+}

@@ -6,9 +6,10 @@ use std::sync::Arc;
 
 use rockfall_raster::{Crs, GridGeometry};
 use rockfall_results::{
-    CellVisit, Event, Layout, Outcome, RockEnd, RockStart, ScreenCrossing, Tally, TrajectoryRow,
+    CellVisit, Event, Layout, LegacySolver, LumpedParameters, Outcome, Parameters, RigidParameters,
+    RockEnd, RockStart, RunSize, ScreenCrossing, Tally, TrajectoryRow,
 };
-use rockfall_scenario::Screen;
+use rockfall_scenario::{ContactSettings, LumpedSettings, RigidParams, Screen, Slippage};
 
 /// 6 columns × 5 rows of 2 m, lower-left corner (1000, 5000), EPSG:2056, two screens.
 pub fn layout() -> Arc<Layout> {
@@ -150,4 +151,54 @@ pub fn simulate_rock(tally: &mut Tally, rock_id: u64) {
         rebounds: r.below(9) as u32,
         time_s: t,
     });
+}
+
+/// Lumped-engine parameters as a run of the default scenario settings records them.
+pub fn lumped_parameters() -> Parameters {
+    Parameters::Lumped(LumpedParameters {
+        settings: LumpedSettings::default(),
+        size: size(),
+        rock_mass_kg: Some(1256.9774006400553),
+        rock_radius_m: Some(0.4749999999999999),
+        tree_energy_units: "seed 000 eq. 2 read as joules (DBH in cm)".into(),
+    })
+}
+
+/// Rigid-engine parameters with the default settings and a time step of `dt_s`.
+pub fn rigid_parameters(dt_s: f64) -> Parameters {
+    let contact = ContactSettings::default();
+    let settings = RigidParams::default();
+    Parameters::Rigid(RigidParameters {
+        rock_shape: "cubic1.2".into(),
+        rock_vertices: 100,
+        rock_volume_m3: 0.020000000000000004,
+        rock_mass_kg: 54.00000000000001,
+        rock_inertia_kgm2: [0.5671454909719857, 0.6046061072747274, 0.6982751108487305],
+        rock_lengths_m: [0.36660269175904725, 0.34914745626840127, 0.2991830931004344],
+        rock_aspect_ratio: 1.2253456168259496,
+        rock_class: "cubic".into(),
+        contact_ground: contact.ground,
+        contact_tree: contact.tree,
+        slippage: Some(Slippage {
+            mu_min: 0.2,
+            mu_max: 1.3,
+            beta_per_s: 20.0,
+            kappa_per_m: 0.7,
+        }),
+        dt_s,
+        size: size(),
+        settings,
+        solver: LegacySolver::from(&settings),
+    })
+}
+
+fn size() -> RunSize {
+    RunSize {
+        max_time_s: 600.0,
+        rocks_per_cell: 4,
+        rocks_per_point: 1,
+        source_cells: 4,
+        release_points: 0,
+        stems: 1333,
+    }
 }
