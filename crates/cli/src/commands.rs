@@ -6,7 +6,7 @@ use crate::lab;
 use crate::simulate;
 use crate::validate;
 use anyhow::anyhow;
-use rockfall_scenario::{Engine, Summary};
+use rockfall_scenario::{Engine, Overview};
 use rockfall_sim::{Overrides, Simulation};
 use std::path::Path;
 
@@ -171,7 +171,7 @@ fn check(input: &Path) -> Result<(), Failure> {
         Engine::Lumped => None,
     };
     println!("{}: ok", input.display());
-    print!("{}", Summary::new(scenario, sim.forest()));
+    print!("{}", Overview::new(scenario, sim.forest()));
     if let Some(hull) = hull {
         println!("{hull}");
     }

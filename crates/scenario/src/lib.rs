@@ -27,7 +27,7 @@ pub use params::{
 };
 pub use release::{Release, ReleasePoint};
 pub use rock::{BlockShape, RockShape, RockSpec};
-pub use summary::{FieldRange, Summary};
+pub use summary::{FieldRange, Overview};
 
 use rockfall_forest::{Forest, StandCell, StandOptions, Stem};
 use rockfall_raster::Field;

@@ -18,9 +18,9 @@ pub struct FieldRange {
     pub source: String,
 }
 
-/// A summary of a scenario and its forest.
+/// An overview of a scenario and its forest, as `rockfall check` prints it.
 #[derive(Debug, Clone)]
-pub struct Summary {
+pub struct Overview {
     /// Lines of `key: value` pairs, in print order.
     pub items: Vec<(String, String)>,
     /// Parameter ranges.
@@ -29,7 +29,7 @@ pub struct Summary {
     pub notes: Vec<String>,
 }
 
-impl Summary {
+impl Overview {
     /// Summarises `scenario` with its built `forest`.
     pub fn new(scenario: &Scenario, forest: &Forest) -> Self {
         let g = scenario.terrain.dem.geometry();
@@ -106,7 +106,7 @@ impl Summary {
                     .join(", ")
             },
         );
-        Summary {
+        Overview {
             items,
             fields: field_ranges(scenario),
             notes: scenario.notes.clone(),
@@ -266,7 +266,7 @@ pub fn polyline_length_m(points: &[[f64; 2]]) -> f64 {
         .sum()
 }
 
-impl fmt::Display for Summary {
+impl fmt::Display for Overview {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let w = self.items.iter().map(|(k, _)| k.len()).max().unwrap_or(0);
         for (k, v) in &self.items {

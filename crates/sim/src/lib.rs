@@ -10,6 +10,17 @@
 //! exactly into the tally of their union ([`Simulation::tally`]).
 //!
 //! Printing, progress bars and files are the caller's: the driver reads and writes nothing.
+//!
+//! ```no_run
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let scenario = rockfall_io::load("site2/scenario.toml".as_ref())?;
+//! let overrides = rockfall_sim::Overrides { seed: Some(2), rocks_per_cell: Some(1000), ..Default::default() };
+//! let results = rockfall_sim::simulate(scenario, &overrides)?;      // every rock, with the forest
+//! let summary = results.summary();                                  // rockfall_results::Summary
+//! println!("run-out p95 {:?} m", summary.runout_m.p95);
+//! # Ok(())
+//! # }
+//! ```
 
 mod observe;
 pub mod parameters;
