@@ -33,6 +33,10 @@ use rockfall_results::Tally;
 use rockfall_rng::Rng;
 use rockfall_scenario::Scenario;
 
+/// The 3-vector of both engines: glam's `DVec3` (the type `parry3d-f64` computes hulls and
+/// contacts with), in metres, m/s or rad/s as its name says; x east, y north, z up.
+pub use glam::DVec3 as V3;
+
 /// Standard gravity, m/s² (both engines).
 pub const G_MS2: f64 = 9.81;
 

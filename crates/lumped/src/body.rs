@@ -73,13 +73,13 @@ impl RockBody {
     /// Translational kinetic energy `½ m |v|²` at velocity `v` (m/s), J.
     #[inline]
     pub fn translational_energy_j(&self, v: V3) -> f64 {
-        0.5 * self.mass_kg * v.norm2()
+        0.5 * self.mass_kg * v.length_squared()
     }
 
     /// Rotational kinetic energy `½ I |ω|²` at angular velocity `w` (rad/s), J.
     #[inline]
     pub fn rotational_energy_j(&self, w: V3) -> f64 {
-        0.5 * self.inertia_kgm2 * w.norm2()
+        0.5 * self.inertia_kgm2 * w.length_squared()
     }
 }
 

@@ -157,8 +157,8 @@ impl Rock<'_, '_, '_> {
             } else {
                 0.0
             };
-            self.v = self.v * keep;
-            self.w = self.w * keep;
+            self.v *= keep;
+            self.w *= keep;
         }
     }
 
@@ -174,8 +174,8 @@ impl Rock<'_, '_, '_> {
         let after_j = self.energy_j(self.v);
         if after_j > before_j {
             let scale = (before_j / after_j).sqrt();
-            self.v = self.v * scale;
-            self.w = self.w * scale;
+            self.v *= scale;
+            self.w *= scale;
         }
     }
 
@@ -188,11 +188,11 @@ impl Rock<'_, '_, '_> {
         let moh = ground.cell(cell).moh_mean_m;
         let n = ground
             .surface(self.p.x, self.p.y)
-            .map_or(V3::UP, |s| s.normal_v3());
+            .map_or(V3::Z, |s| s.normal_v3());
         if self.moved
             && moh > 0.0
             && self.last_rebound_cell != Some(cell)
-            && self.v.norm2() >= clears_obstacles_speed2(moh, n.z)
+            && self.v.length_squared() >= clears_obstacles_speed2(moh, n.z)
         {
             // rolling as a sequence of short bounces: a rock fast enough to be thrown by the
             // obstacles meets them where it enters a cell (a rebound there, if they throw it)

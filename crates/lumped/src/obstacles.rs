@@ -39,7 +39,7 @@ impl Rock<'_, '_, '_> {
             _ => 1.0,
         };
         self.v = rotate_horizontal(self.v * keep, side * deviation);
-        self.w = self.w * keep;
+        self.w *= keep;
         if self.rolling {
             let n = self.world.ground.surface(self.p.x, self.p.y)?.normal_v3();
             self.start_rolling(n);
@@ -49,7 +49,7 @@ impl Rock<'_, '_, '_> {
         let height = self.p.z - s.base_z_m;
         self.tally.tree_impact(s.cell, height, broken);
         self.record(Event::Tree);
-        if loss >= energy || self.v.norm() < self.world.settings.stop_velocity_ms {
+        if loss >= energy || self.v.length() < self.world.settings.stop_velocity_ms {
             return Some(Outcome::Stopped {
                 cell: self.current_cell()?,
             });
@@ -69,8 +69,8 @@ impl Rock<'_, '_, '_> {
                 return Some(Outcome::NetStopped { cell });
             }
             let keep = ((energy - c.net_energy_j) / energy).sqrt();
-            self.v = self.v * keep;
-            self.w = self.w * keep;
+            self.v *= keep;
+            self.w *= keep;
         }
         None
     }

@@ -37,6 +37,7 @@
 use crate::V3;
 use crate::body::RockBody;
 use crate::ground::CellParams;
+use crate::vec3::V3Ext;
 use crate::vec3::rotate_horizontal;
 use rand::RngExt;
 use rockfall_rng::Rng;
@@ -93,7 +94,7 @@ pub fn flatten(n: V3, reduce_rad: f64) -> V3 {
     let slope = n.z.clamp(-1.0, 1.0).acos();
     let nh = n.horizontal_norm();
     if nh < 1e-12 || slope <= reduce_rad {
-        return V3::UP;
+        return V3::Z;
     }
     let (s, c) = (slope - reduce_rad).sin_cos();
     V3::new(n.x / nh * s, n.y / nh * s, c)
@@ -102,7 +103,7 @@ pub fn flatten(n: V3, reduce_rad: f64) -> V3 {
 /// Downslope unit tangent of a surface with upward normal `n` (any unit tangent when flat).
 #[inline]
 pub fn downslope(n: V3) -> V3 {
-    (-V3::UP - n * (-n.z))
+    (-V3::Z - n * (-n.z))
         .unit()
         .unwrap_or(V3::new(1.0, 0.0, 0.0))
 }
@@ -328,12 +329,12 @@ mod tests {
         let b = RockBody::new(BlockShape::Spherical, [1.0; 3], 2700.0).unwrap();
         let mut rng = rockfall_rng::stream(1, rockfall_rng::Purpose::Sampling, &[]);
         let v = V3::new(5.0, 0.0, -4.0);
-        let w = V3::UP.cross(V3::new(1.0, 0.0, 0.0)) * (spin * 5.0 / 0.5);
+        let w = V3::Z.cross(V3::new(1.0, 0.0, 0.0)) * (spin * 5.0 / 0.5);
         let r = rebound(
             &b,
             v,
             w,
-            V3::UP,
+            V3::Z,
             &cell(0.4, 0.125),
             &settings(law),
             true,
@@ -416,7 +417,7 @@ mod tests {
         let v = V3::new(60f64.to_radians().cos(), 60f64.to_radians().sin(), -0.3) * 4.0;
         let (v2, w2) = limit_heading(v, w, Some((1.0, 0.0)), lim);
         assert!((v2.y.atan2(v2.x).to_degrees() - 45.0).abs() < 1e-9);
-        assert!((v2.norm() - v.norm()).abs() < 1e-12 && v2.z == v.z);
+        assert!((v2.length() - v.length()).abs() < 1e-12 && v2.z == v.z);
         assert_eq!(w2, w);
         // 170° to the right: turned to −45°
         let v = V3::new(
@@ -442,7 +443,7 @@ mod tests {
         let (mut left, mut right, mut largest) = (0, 0, 0.0f64);
         for _ in 0..20_000 {
             let t = roughness_tilt(n, along, moh, r, 1.0, true, &mut rng);
-            assert!((t.norm() - 1.0).abs() < 1e-12);
+            assert!((t.length() - 1.0).abs() < 1e-12);
             let angle = t.dot(n).clamp(-1.0, 1.0).acos();
             assert!(angle <= max + 1e-12, "{angle} > {max}");
             largest = largest.max(angle);
@@ -473,7 +474,7 @@ mod tests {
         let f = flatten(n, 4f64.to_radians());
         assert!((f.z.acos().to_degrees() - 26.0).abs() < 1e-9);
         assert!(f.x < 0.0 && f.y.abs() < 1e-15);
-        assert_eq!(flatten(n, 1.0), V3::UP);
+        assert_eq!(flatten(n, 1.0), V3::Z);
     }
 
     #[test]
@@ -482,10 +483,10 @@ mod tests {
         let t = downslope(n);
         let (v, w) = compose(n, t, 3.0, 0.0, 0.5);
         assert!(v.dot(n).abs() < 1e-12);
-        assert!((v.norm() - 3.0).abs() < 1e-12);
+        assert!((v.length() - 3.0).abs() < 1e-12);
         // rolling without slip: contact point at rest, v + w × (−R n) = 0
         let slip = v + w.cross(n * -0.5);
-        assert!(slip.norm() < 1e-12);
+        assert!(slip.length() < 1e-12);
     }
 
     #[test]

@@ -76,7 +76,7 @@ impl Rock<'_, '_, '_> {
             return;
         };
         let h = q.z - zg;
-        let speed = u.norm();
+        let speed = u.length();
         let e = self.energy_j(u);
         self.max_v = self.max_v.max(speed);
         if self.grounded {
@@ -111,7 +111,7 @@ impl Rock<'_, '_, '_> {
             let (q, u) = (seg.pos(tau), seg.vel(tau));
             let zg = self.world.ground.height_m(q.x, q.y).unwrap_or(q.z);
             let crossing = ScreenCrossing {
-                velocity_ms: u.norm(),
+                velocity_ms: u.length(),
                 energy_j: self.energy_j(u),
                 jump_height_m: q.z - zg,
             };

@@ -31,6 +31,7 @@
 use crate::body::RockBody;
 use crate::ground::Ground;
 use crate::ground::SurfNormal;
+use crate::vec3::V3Ext;
 use crate::{G_MS2, V3};
 
 /// Result of one rolling step.
@@ -104,12 +105,12 @@ pub fn roll_step(ground: &Ground, body: &RockBody, p: V3, v: V3, input: &RollInp
     };
     let n0 = s0.normal_v3();
     let g_t = V3::new(0.0, 0.0, -G_MS2) + n0 * (G_MS2 * n0.z);
-    let speed = v.norm();
+    let speed = v.length();
     let resist = mu_r * G_MS2 * n0.z;
     let dir = match v.unit() {
         Some(u) if speed > 1e-9 => u,
         _ => {
-            if g_t.norm() <= resist {
+            if g_t.length() <= resist {
                 return RollStep::Stuck;
             }
             g_t.unit().unwrap_or(V3::new(1.0, 0.0, 0.0))

@@ -11,6 +11,7 @@ use crate::body::RockBody;
 use crate::forestry::Trees;
 use crate::ground::Ground;
 use crate::segment::Seg;
+use crate::vec3::V3Ext;
 use rockfall_results::{CellVisit, Event, Outcome, RockEnd, RockStart, ScreenSet, Tally};
 use rockfall_rng::Rng;
 use rockfall_scenario::LumpedSettings;

@@ -16,6 +16,7 @@ mod common;
 use proptest::prelude::*;
 use rand::RngExt;
 use rockfall_lumped::ground::{FlightEnd, Ground};
+use rockfall_lumped::vec3::V3Ext;
 use rockfall_lumped::{G_MS2, V3};
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
 

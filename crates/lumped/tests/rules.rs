@@ -244,10 +244,14 @@ fn a_grazed_stem_sends_the_rock_away_from_it_rolling() {
         }
         checked += 1;
         let v = V3::new(b.vx_ms, b.vy_ms, b.vz_ms);
-        assert!(v.dot(n).abs() < 1e-9 * (1.0 + v.norm()), "v·n {}", v.dot(n));
+        assert!(
+            v.dot(n).abs() < 1e-9 * (1.0 + v.length()),
+            "v·n {}",
+            v.dot(n)
+        );
         let spin = n.cross(v) * (1.0 / R);
         let w = V3::new(b.wx_rads, b.wy_rads, b.wz_rads);
-        assert!((w - spin).norm() < 1e-9 * (1.0 + spin.norm()));
+        assert!((w - spin).length() < 1e-9 * (1.0 + spin.length()));
     }
     assert!(checked > 100, "{checked}");
 }

@@ -7,7 +7,10 @@
 //! Frames: the world frame is the DEM's (x east, y north, z up, metres). The body frame K has
 //! its origin at the rock's centre of mass and its axes along the principal axes of inertia.
 
-pub use parry3d_f64::math::{Matrix as M3, Rotation as Quat, Vector as V3};
+pub use parry3d_f64::math::{Matrix as M3, Rotation as Quat};
+/// Both engines' vector ([`rockfall_engine::V3`]): glam's `DVec3`, the very type of
+/// `parry3d_f64::math::Vector`, so hulls and contact queries take it as it is.
+pub use rockfall_engine::V3;
 
 /// Two unit tangents completing the unit normal `n` to a right-handed orthonormal basis
 /// (n, t1, t2). The basis jumps where |n_x| crosses 0.6; that does not matter to the contact
