@@ -100,3 +100,123 @@ impl<E: Engine> Plan<E> {
         self.run(layout, &RockSet::all(self.rocks()), opts)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Release;
+    use rockfall_raster::{Grid, GridGeometry};
+    use rockfall_rng::Rng;
+    use rockfall_scenario::{ReleasePoint, RockSpec};
+    use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
+    use std::convert::Infallible;
+    use std::sync::Mutex;
+
+    /// What [`Recorder`] saw of one rock: its number, its index in its release, the key of
+    /// the release it was launched from, and the random stream it was handed.
+    type Seen = (u64, u64, [u64; 2], Rng);
+
+    /// An engine that moves no rock: it notes what the plan hands it.
+    #[derive(Default)]
+    struct Recorder {
+        seen: Mutex<Vec<Seen>>,
+    }
+
+    impl Engine for Recorder {
+        type Launch = [u64; 2];
+        type Scratch = ();
+        type Error = Infallible;
+        const CHUNK: u64 = 2;
+
+        fn name(&self) -> &'static str {
+            "recorder"
+        }
+
+        fn launch(&self, _: &Scenario, release: &Release) -> Result<[u64; 2], Infallible> {
+            Ok(release.key())
+        }
+
+        fn scratch(&self) {}
+
+        fn simulate(
+            &self,
+            launch: &[u64; 2],
+            rock: Rock,
+            rng: &mut Rng,
+            _: &mut Tally,
+            _: &mut (),
+        ) {
+            let seen = (rock.id, rock.index, *launch, rng.clone());
+            self.seen.lock().unwrap().push(seen);
+        }
+    }
+
+    /// Flat 6 × 6 cells of 10 m; source cells (1, 2) and (3, 4) with 3 rocks each, one release
+    /// point with 2 rocks; seed 42.
+    fn scenario() -> Scenario {
+        let g = GridGeometry {
+            ncols: 6,
+            nrows: 6,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 10.0,
+        };
+        let dem = Dem::new(Grid::from_fn(g, |_, _| Some(0.0))).unwrap();
+        let soil = SoilType::new(4).unwrap();
+        let terrain = Terrain::new(dem, SurfaceMap::uniform(soil, 0.0, 0.0, 0.0)).unwrap();
+        let release = rockfall_scenario::Release {
+            cells: vec![g.index(1, 2), g.index(3, 4)],
+            cell_height_m: 0.5,
+            cell_velocity_ms: [0.0; 3],
+            points: vec![ReleasePoint::at_rest(12.0, 31.0, 1.0)],
+        };
+        let mut s = Scenario::new("plan", terrain, RockSpec::sphere(1.0, 2600.0), release);
+        s.seed = 42;
+        s.simulation.rocks_per_cell = 3;
+        s.simulation.rocks_per_point = 2;
+        s
+    }
+
+    /// The key scheme every seed's results rest on: rock k of source cell c draws from the
+    /// stream `(seed, Rock, [0, c, k])`, rock k of release point p from `[1, p, k]` — keyed
+    /// by the rock's index in its release, never by its global number, so that a release's
+    /// rocks do not change when releases before it gain or lose rocks. A run of a rock set
+    /// hands the engine exactly the set's rocks (those past the last rock are ignored), each
+    /// with its own release's launch.
+    #[test]
+    fn each_rock_draws_from_the_stream_of_its_release_and_index() {
+        let s = scenario();
+        let g = *s.terrain.dem.geometry();
+        let (a, b) = (g.index(1, 2) as u64, g.index(3, 4) as u64);
+        let plan = Plan::new(Recorder::default(), &s).unwrap();
+        assert_eq!(plan.rocks(), 8);
+        let layout = Arc::new(Layout::of(&s));
+        let opts = RunOptions {
+            threads: 2,
+            progress: None,
+        };
+        let wanted = RockSet::from_ranges([1..2, 4..7, 7..20]);
+        plan.run(&layout, &wanted, &opts).unwrap();
+        let mut seen = plan.engine().seen.lock().unwrap().clone();
+        seen.sort_by_key(|r| r.0);
+        // (global number, index in its release, release key)
+        let expected = [
+            (1, 1, [0, a]),
+            (4, 1, [0, b]),
+            (5, 2, [0, b]),
+            (6, 0, [1, 0]),
+            (7, 1, [1, 0]),
+        ];
+        let got: Vec<(u64, u64, [u64; 2])> = seen.iter().map(|r| (r.0, r.1, r.2)).collect();
+        assert_eq!(got, expected);
+        for (id, index, key, rng) in &seen {
+            let own = rockfall_rng::stream(42, Purpose::Rock, &[key[0], key[1], *index]);
+            assert!(
+                *rng == own,
+                "rock {id} does not draw from (42, Rock, [{}, {}, {index}])",
+                key[0],
+                key[1]
+            );
+        }
+    }
+}

@@ -68,3 +68,66 @@ pub(crate) fn run_rocks<S>(
     }
     Ok(merged)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rockfall_raster::GridGeometry;
+    use std::sync::Mutex;
+
+    /// Every rock of the set is run exactly once whatever the threads and chunk size, and the
+    /// progress reported adds up to the rocks run (a progress bar ends at 100 %, not past it):
+    /// the last chunk is cut at the end of the set.
+    #[test]
+    fn every_rock_runs_once_and_progress_counts_it_once() {
+        let layout = Arc::new(Layout {
+            geometry: GridGeometry {
+                ncols: 1,
+                nrows: 1,
+                x_min_m: 0.0,
+                y_min_m: 0.0,
+                cell_size_m: 1.0,
+            },
+            crs: None,
+            screens: Vec::new(),
+            percentiles: Vec::new(),
+            trajectories: 0,
+            rock_ends: false,
+        });
+        // 11 rocks in three ranges: no chunk size below divides them
+        let rocks = RockSet::from_ranges([3..5, 9..17, 40..41]);
+        let all: Vec<u64> = rocks.iter().collect();
+        for threads in [1, 2, 3] {
+            for chunk in [1, 4, 64] {
+                let done = AtomicU64::new(0);
+                let progress = |n: u64| {
+                    done.fetch_add(n, Ordering::Relaxed);
+                };
+                let opts = RunOptions {
+                    threads,
+                    progress: Some(&progress),
+                };
+                let seen = Mutex::new(Vec::new());
+                run_rocks(
+                    &layout,
+                    &rocks,
+                    chunk,
+                    &opts,
+                    || (),
+                    |id, _, _| {
+                        seen.lock().unwrap().push(id);
+                    },
+                )
+                .unwrap();
+                let mut seen = seen.into_inner().unwrap();
+                seen.sort_unstable();
+                assert_eq!(seen, all, "{threads} threads, chunks of {chunk}");
+                assert_eq!(
+                    done.load(Ordering::Relaxed),
+                    rocks.len(),
+                    "{threads} threads, chunks of {chunk}: progress"
+                );
+            }
+        }
+    }
+}

@@ -108,4 +108,19 @@ mod tests {
         assert_eq!(s.below(9).ranges(), &[0..5, 8..9]);
         assert!(RockSet::all(0).is_empty());
     }
+
+    /// A range inside another, or touching the end of the one before, adds its rocks to the
+    /// union: none of the rocks of the wider range is lost, none counted twice.
+    #[test]
+    fn nested_and_touching_ranges_keep_every_rock_once() {
+        let s = RockSet::from_ranges([0..10, 2..5, 10..12, 20..21, 15..30, 29..30]);
+        assert_eq!(s.ranges(), &[0..12, 15..30]);
+        assert_eq!(s.len(), 27);
+        assert_eq!(s.iter().count(), 27);
+        assert_eq!(
+            (s.nth(11), s.nth(12), s.nth(26)),
+            (Some(11), Some(15), Some(29))
+        );
+        assert!(s.contains(3) && s.contains(25) && !s.contains(12) && !s.contains(30));
+    }
 }
