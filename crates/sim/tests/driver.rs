@@ -4,12 +4,13 @@
 
 #![allow(clippy::unwrap_used)]
 
-use rockfall_engine::RockSet;
+use rockfall_engine::{PoolError, RockSet};
 use rockfall_forest::StandOptions;
 use rockfall_raster::Field;
-use rockfall_results::{Layout, Results, RunInfo, Tally};
-use rockfall_scenario::{Engine, ForestSpec, Scenario, Stands};
-use rockfall_sim::{Overrides, Quiet, Simulation, simulate};
+use rockfall_results::{Layout, Parameters, Results, RunInfo, Tally};
+use rockfall_scenario::{Engine, ForestSpec, ReleasePoint, RockSpec, Scenario, Stands};
+use rockfall_sim::{Overrides, Quiet, RigidRock, SimError, Simulation, simulate};
+use std::path::Path;
 use std::sync::Arc;
 
 /// vaujany-site2 (lumped, its forest) with `rocks` rocks.
@@ -168,9 +169,29 @@ fn merged_equals_union(scenario: Scenario, split: &[std::ops::Range<u64>]) {
     let (m, u) = (results(merged), results(union));
     assert_eq!(m.rocks(), total);
     assert_eq!(fingerprint(&m), fingerprint(&u));
-    // and the whole run through the driver is that union too
+    // a set reaching past the last rock runs the rocks there are, no more
+    let past = tally(
+        &sim,
+        &layout,
+        RockSet::from_ranges(std::iter::once(0..total + 7)),
+    );
+    assert_eq!(fingerprint(&results(past)), fingerprint(&u));
+    // and the whole run through the driver is that union too, forest included: a partial
+    // tally is a part of the run, not of a run without trees
     let run = sim.run(true, "", &Quiet).unwrap();
     assert_eq!(run.rocks(), total);
+    let own = Arc::new(Layout::of(sim.scenario()));
+    let s = run.summary();
+    let info = RunInfo {
+        engine: s.engine,
+        scenario: s.scenario,
+        seed: s.seed,
+        threads: 2,
+        wall_time_s: 1.0,
+        parameters: s.parameters,
+    };
+    let whole = Results::new(&own, tally(&sim, &own, RockSet::all(total)), info);
+    assert_eq!(fingerprint(&whole), fingerprint(&run));
 }
 
 #[test]
@@ -183,4 +204,169 @@ fn rigid_tallies_of_disjoint_rock_sets_merge_into_the_tally_of_their_union() {
     let s = rigid_site(2);
     assert!(rockfall_sim::rocks(&s) >= 2);
     merged_equals_union(s, &[1..2, 5..5]);
+}
+
+/// Every scenario override reaches the scenario as simulated — `--rocks-per-point` as well as
+/// the others — and the threads override the workers.
+#[test]
+fn every_override_reaches_the_scenario() {
+    let s = rigid_site(1);
+    let points = s.release.points.len() as u64;
+    let cells = s.release.cells.len() as u64;
+    assert!(points > 0);
+    let o = Overrides {
+        seed: Some(9),
+        rocks_per_cell: Some(4),
+        rocks_per_point: Some(3),
+        engine: Some(Engine::Lumped),
+        threads: Some(3),
+    };
+    let sim = Simulation::new(s, &o).unwrap();
+    let sc = sim.scenario();
+    assert_eq!(sc.seed, 9);
+    assert_eq!(sc.simulation.rocks_per_cell, 4);
+    assert_eq!(sc.simulation.rocks_per_point, 3);
+    assert_eq!(sc.engine, Engine::Lumped);
+    assert_eq!(sim.threads(), 3);
+    assert_eq!(rockfall_sim::rocks(sc), 4 * cells + 3 * points);
+}
+
+/// The overridden scenario is validated before anything runs (an override can make it
+/// invalid), and the error names the file its parameter came from; an engine that cannot
+/// start names the file of the rock (for a lumped run, `rockdensity`: a Rockyfor3D folder's
+/// source cells); only a pool that cannot start is not the input's fault.
+#[test]
+fn errors_are_found_before_anything_runs_and_name_their_file() {
+    let mut s = lumped_site(10);
+    let toml = Path::new("in/scenario.toml");
+    s.sources
+        .insert("simulation.rocks_per_cell".into(), toml.into());
+    let o = Overrides {
+        rocks_per_cell: Some(0),
+        ..threads(2)
+    };
+    let e = Simulation::new(s.clone(), &o).unwrap_err();
+    assert!(matches!(e, SimError::Scenario { .. }), "{e:?}");
+    assert!(e.is_bad_input());
+    assert_eq!(e.file(), Some(toml));
+    assert!(e.to_string().starts_with("in/scenario.toml: "), "{e}");
+
+    // the lumped engine has no use for a named seed 001 shape
+    s.rock = RockSpec::named("cubic1.2", None, 2700.0).unwrap();
+    let density = Path::new("in/rockdensity.asc");
+    s.sources.insert("rockdensity".into(), density.into());
+    s.sources.insert("dem".into(), "in/dem.asc".into());
+    let e = simulate(s, &threads(2)).unwrap_err();
+    assert!(matches!(e, SimError::Engine { .. }), "{e:?}");
+    assert!(e.is_bad_input());
+    assert_eq!(e.file(), Some(density));
+
+    let pool = SimError::Pool(PoolError(4));
+    assert!(!pool.is_bad_input());
+    assert_eq!(pool.file(), None);
+}
+
+/// `summary.json`'s parameters are those of the run: the engine settings of the scenario as
+/// simulated (not the defaults), its size (source cells, points, rocks, stems), the rock the
+/// engine made of it.
+#[test]
+fn the_parameters_are_the_runs_settings_size_and_rock() {
+    let mut s = lumped_site(20);
+    s.rock = RockSpec::sphere(0.8, 2500.0);
+    s.lumped.roughness_tilt_factor = 0.5;
+    s.lumped.rt_variation = 0.2;
+    let sim = Simulation::new(s, &threads(2)).unwrap();
+    let stems = sim.forest().len() as u64;
+    assert!(stems > 0);
+    let r = sim.run(true, "", &Quiet).unwrap();
+    let Parameters::Lumped(p) = r.summary().parameters else {
+        panic!("not lumped")
+    };
+    assert_eq!(p.settings, sim.scenario().lumped);
+    assert_eq!(p.settings.roughness_tilt_factor, 0.5);
+    let size = (
+        p.size.rocks_per_cell,
+        p.size.source_cells,
+        p.size.release_points,
+    );
+    assert_eq!(size, (20, 1, 0));
+    assert_eq!((p.size.stems, p.size.max_time_s), (stems, 600.0));
+    let (radius, mass) = (
+        0.4,
+        2500.0 * 4.0 / 3.0 * std::f64::consts::PI * 0.4f64.powi(3),
+    );
+    assert!((p.rock_radius_m.unwrap() - radius).abs() < 1e-12, "{p:?}");
+    assert!(
+        (p.rock_mass_kg.unwrap() / mass - 1.0).abs() < 1e-12,
+        "{p:?}"
+    );
+
+    let mut s = rigid_site(1);
+    s.simulation.max_time_s = 1.0;
+    s.rigid.solver_max_iterations = 77;
+    s.rigid.rest_time_s = 0.7;
+    let sim = Simulation::new(s, &threads(2)).unwrap();
+    let sc = sim.scenario();
+    let r = sim.run(true, "", &Quiet).unwrap();
+    let Parameters::Rigid(p) = r.summary().parameters else {
+        panic!("not rigid")
+    };
+    assert_eq!(p.settings, sc.rigid);
+    assert_eq!((p.solver.max_iterations, p.settings.rest_time_s), (77, 0.7));
+    assert_eq!(
+        (p.dt_s, p.contact_ground),
+        (sc.simulation.dt_s, sc.contact.ground)
+    );
+    let size = (
+        p.size.rocks_per_point,
+        p.size.source_cells,
+        p.size.release_points,
+    );
+    assert_eq!(size, (1, 0, 1));
+    assert_eq!(p.size.stems, sim.forest().len() as u64);
+    let rock = RigidRock::of(sc).unwrap();
+    assert_eq!(
+        (p.rock_mass_kg, p.rock_vertices),
+        (rock.mass_kg, rock.vertices as u64)
+    );
+}
+
+/// Every rock reports under its global number (release after release) and the cell it was
+/// released from — for a release point, the cell the point lies in — in `rocks.csv` and the
+/// trajectories, on both engines.
+#[test]
+fn rocks_report_their_global_number_and_source_cell() {
+    let mut s = lumped_site(1);
+    let g = *s.terrain.dem.geometry();
+    let c0 = s.release.cells[0];
+    let (row, col) = g.row_col(c0);
+    let (x0, y0) = g.cell_center(row, col);
+    let d = g.cell_size_m;
+    s.release.points = vec![
+        ReleasePoint::at_rest(x0 + d + 0.3, y0 - 0.4, 0.5),
+        ReleasePoint::at_rest(x0 - 2.0 * d - 0.3, y0 + 0.2, 0.5),
+    ];
+    s.simulation.rocks_per_point = 2;
+    s.simulation.max_time_s = 1.0;
+    s.output.rocks_csv = true;
+    s.output.trajectories = u64::MAX;
+    s.forest = None;
+    let (c1, c2) = (g.index(row, col + 1), g.index(row, col - 2));
+    for engine in [Engine::Lumped, Engine::Rigid] {
+        let o = Overrides {
+            engine: Some(engine),
+            ..threads(2)
+        };
+        let r = simulate(s.clone(), &o).unwrap();
+        let records: Vec<(u64, usize)> = (r.rock_records().iter())
+            .map(|rec| (rec.rock_id, rec.source_cell))
+            .collect();
+        let expected = [(0, c0), (1, c1), (2, c1), (3, c2), (4, c2)];
+        assert_eq!(records, expected, "{engine}");
+        let mut ids: Vec<u64> = r.trajectories().iter().map(|row| row.rock_id).collect();
+        ids.dedup();
+        ids.sort_unstable();
+        ids.dedup();
+        assert_eq!(ids, [0, 1, 2, 3, 4], "{engine}");
+    }
 }
