@@ -236,6 +236,9 @@ fn quick_vaujany_cases_compute_eqs_5_and_6_from_their_runs() {
     assert!(is_png(&out.join("fig2_tree_impacts_per_rock.png")));
 }
 
+/// The shape study's case: the rows and the paper's three findings, checked against the
+/// study's own ranking; every shape's run is written with the `--rocks` and `--seed` asked
+/// for (not the site's own seed).
 #[test]
 fn the_rigid_shape_case_checks_the_papers_findings() {
     let tmp = tempfile::tempdir().unwrap();
@@ -245,6 +248,8 @@ fn the_rigid_shape_case_checks_the_papers_findings() {
         "forest-slope-40",
         "--rocks",
         "2",
+        "--seed",
+        "5",
         "--out",
         s(&out),
     ]));
@@ -265,6 +270,7 @@ fn the_rigid_shape_case_checks_the_papers_findings() {
     for shape in ["cubic1.2", "flat2.2", "long2.2"] {
         let sum = json(&out.join("forest-slope-40").join(shape).join("summary.json"));
         assert_eq!(sum["rocks"], 2, "{shape}");
+        assert_eq!(sum["seed"], 5, "{shape}");
     }
     assert!(is_png(&out.join("forest-slope-40/trajectories_plan.png")));
 }
@@ -278,6 +284,8 @@ fn comparable(path: &Path) -> Value {
     v
 }
 
+/// `validation.json` is the same on 1 and 2 threads, and the site's run is written with the
+/// `--seed` and `--rocks` asked for.
 #[test]
 fn results_do_not_depend_on_the_thread_count() {
     let tmp = tempfile::tempdir().unwrap();
@@ -295,6 +303,8 @@ fn results_do_not_depend_on_the_thread_count() {
             "--out",
             s(&out),
         ]));
+        let run = json(&out.join("vaujany-site2/summary.json"));
+        assert_eq!((&run["seed"], &run["rocks"]), (&7.into(), &300.into()));
         comparable(&out.join("validation.json"))
     };
     let one = run("1");

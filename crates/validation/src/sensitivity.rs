@@ -120,6 +120,48 @@ pub fn sensitivity(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rockfall_results::Results;
+    use std::sync::Mutex;
+
+    /// The runs an observer was told of: (label, rocks) when each started, (label, seed,
+    /// rocks) of each finished run's summary.
+    #[derive(Default)]
+    struct Runs {
+        started: Mutex<Vec<(String, u64)>>,
+        finished: Mutex<Vec<(String, u64, u64)>>,
+    }
+
+    impl Observer for Runs {
+        fn started(&self, label: &str, rocks: u64) {
+            self.started.lock().unwrap().push((label.into(), rocks));
+        }
+
+        fn finished(&self, label: &str, results: &Results) {
+            let s = results.summary();
+            let run = (label.into(), s.seed, s.rocks);
+            self.finished.lock().unwrap().push(run);
+        }
+    }
+
+    /// Every variant runs with the seed and the rocks it is asked for — not the site's own
+    /// seed (1) and 10 000 rocks — so that the table compares variants of one run, the one
+    /// `validate --seed` names; each run announces its rocks before it starts.
+    #[test]
+    fn every_variant_runs_with_the_requested_seed_and_rocks() {
+        let runs = Runs::default();
+        let rows = sensitivity(&["vaujany-site2"], 200, 11, 2, &runs).unwrap();
+        let n = variants(Site::Two).len();
+        assert_eq!(rows.len(), n);
+        let started = runs.started.into_inner().unwrap();
+        let finished = runs.finished.into_inner().unwrap();
+        assert_eq!((started.len(), finished.len()), (n, n));
+        for (label, rocks) in &started {
+            assert_eq!(*rocks, 200, "{label}");
+        }
+        for (label, seed, rocks) in &finished {
+            assert_eq!((*seed, *rocks), (11, 200), "{label}");
+        }
+    }
 
     #[test]
     fn each_variant_moves_one_thing() {
