@@ -136,3 +136,68 @@ pub fn shape_label(shape: &str) -> String {
         _ => shape.to_ascii_lowercase(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rockfall_raster::{Grid, GridGeometry};
+    use rockfall_scenario::{Release, ReleasePoint, RockSpec};
+    use rockfall_sim::Quiet;
+    use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
+
+    /// A bare 35° plane (20 × 40 cells of 1 m, falling to the south) releasing a `cubic1.2`
+    /// of 0.05 m³ at rest from one point; a scenario of the lumped engine (the default) that
+    /// records one trajectory, cut at 1.5 s.
+    fn plane() -> Scenario {
+        let g = GridGeometry {
+            ncols: 20,
+            nrows: 40,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 1.0,
+        };
+        let tan = 35f64.to_radians().tan();
+        let dem = Dem::new(Grid::from_fn(g, |row, _| Some(tan * (40 - row) as f64))).unwrap();
+        let soil = SoilType::new(4).unwrap();
+        let terrain = Terrain::new(dem, SurfaceMap::uniform(soil, 0.0, 0.0, 0.0)).unwrap();
+        let release = Release {
+            points: vec![ReleasePoint::at_rest(10.0, 34.0, 0.2)],
+            ..Release::default()
+        };
+        let rock = RockSpec::named("cubic1.2", Some(0.05), 2700.0).unwrap();
+        let mut s = Scenario::new("plane", terrain, rock, release);
+        s.simulation.max_time_s = 1.5;
+        s.output.trajectories = 1;
+        s
+    }
+
+    /// A study runs each shape on the rigid engine whatever engine the scenario names, with
+    /// the study's rocks, and records every rock's path — not only the scenario's
+    /// `[output] trajectories` first ones — since run-out and spread are read from the paths.
+    #[test]
+    fn every_shape_runs_rigid_with_every_path_recorded() {
+        let base = plane();
+        let forest = base.build_forest().unwrap();
+        let study = ShapeStudy {
+            shapes: vec![("cubic1.2".into(), RockShape::parse("cubic1.2").unwrap())],
+            rocks: 3,
+            interval_s: 0.05,
+            threads: 2,
+            input: "a plane".into(),
+            command: "test".into(),
+        };
+        let out = tempfile::tempdir().unwrap();
+        let (_, runs) = run_shape_study(&base, &forest, &study, out.path(), &Quiet).unwrap();
+        assert_eq!(runs.len(), 1);
+        let run = &runs[0];
+        assert_eq!(
+            (run.summary.engine.as_str(), run.summary.rocks),
+            ("rigid", 3)
+        );
+        assert_eq!(run.paths.len(), 3, "one path per rock");
+        for (k, p) in run.paths.iter().enumerate() {
+            assert!(p.points.len() > 10, "rock {k}: {} points", p.points.len());
+        }
+        assert!(out.path().join("cubic1.2/summary.json").is_file());
+    }
+}
