@@ -6,7 +6,9 @@
 mod common;
 
 use common::{layout, lumped_parameters, rigid_parameters, simulate_rock};
-use rockfall_results::{Parameters, Results, RunInfo, Summary, Tally};
+use rockfall_results::{
+    CellVisit, Outcome, Parameters, Results, RockEnd, RockStart, RunInfo, Summary, Tally,
+};
 use serde_json::Value;
 
 /// A run of `rocks` synthetic rocks recording `parameters`.
@@ -285,4 +287,54 @@ fn summaries_of_other_shapes_are_refused() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("sideways"), "{e}");
+}
+
+/// One rock of a hand-made run: released from cell 0, visiting `cells`, hitting a tree in
+/// `tree_cell`, ending as `outcome`.
+fn hand_rock(t: &mut Tally, rock_id: u64, cells: &[usize], tree_cell: usize, outcome: Outcome) {
+    t.begin_rock(RockStart {
+        rock_id,
+        source_cell: 0,
+        x_m: 1001.0,
+        y_m: 5009.0,
+        z_m: 100.0,
+    });
+    for &cell in cells {
+        let visit = CellVisit {
+            energy_j: 1e3,
+            velocity_ms: 3.0,
+            passing_height_m: 0.5,
+        };
+        t.cell_visit(cell, visit);
+    }
+    t.tree_impact(tree_cell, 1.0, false);
+    t.end_rock(RockEnd {
+        outcome,
+        x_m: 1005.0,
+        y_m: 5001.0,
+        runout_m: 4.0,
+        max_velocity_ms: 3.0,
+        max_jump_height_m: 0.5,
+        tree_impacts: 1,
+        stems_broken: 0,
+        rebounds: 2,
+        time_s: 1.0,
+    });
+}
+
+/// `cells_reached` counts the cells some rock went through, not every cell the tallies
+/// touched: a stem hit across a cell border and a deposit are kept in cells no rock visited.
+/// The outcome shares count a net's rocks among the stopped ones.
+#[test]
+fn cells_reached_are_the_cells_rocks_went_through() {
+    let mut t = Tally::new(layout());
+    hand_rock(&mut t, 0, &[1, 2], 8, Outcome::Stopped { cell: 2 });
+    hand_rock(&mut t, 1, &[2], 2, Outcome::NetStopped { cell: 14 });
+    let s = Results::new(&layout(), t, RunInfo::default()).summary();
+    assert_eq!(s.rocks, 2);
+    assert_eq!(s.cells_reached, 2);
+    assert_eq!(s.stopped_fraction, Some(1.0));
+    assert_eq!(s.net_stopped_fraction, Some(0.5));
+    assert_eq!(s.tree_impacts_per_rock, Some(1.0));
+    assert_eq!(s.rebounds_per_rock, Some(2.0));
 }
