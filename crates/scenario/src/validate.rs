@@ -113,6 +113,18 @@ impl Scenario {
                 format!("cell index {i} outside the DEM"),
             ));
         }
+        // each source cell once: its rocks' random streams are keyed by the cell
+        if let Some(w) = rel.cells.windows(2).find(|w| w[0] >= w[1]) {
+            let (row, col) = dem.row_col(w[1]);
+            return Err(ScenarioError::invalid(
+                "release.cells",
+                format!(
+                    "source cells must be listed once each, in ascending order: the cell at row \
+                     {row}, column {col} (index {}) comes after index {}",
+                    w[1], w[0]
+                ),
+            ));
+        }
         for &i in &rel.cells {
             let (row, col) = dem.row_col(i);
             let (x, y) = dem.cell_center(row, col);

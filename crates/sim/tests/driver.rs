@@ -370,3 +370,21 @@ fn rocks_report_their_global_number_and_source_cell() {
         assert_eq!(ids, [0, 1, 2, 3, 4], "{engine}");
     }
 }
+
+/// A scenario built by hand that lists a source cell twice (or out of order) is refused: the
+/// two releases would share one random-stream key, and their rocks would be copies.
+#[test]
+fn a_source_cell_listed_twice_is_refused() {
+    for twice in [true, false] {
+        let mut s = lumped_site(10);
+        let c = s.release.cells[0];
+        s.release.cells = if twice { vec![c, c] } else { vec![c + 1, c] };
+        let e = Simulation::new(s, &threads(1)).unwrap_err();
+        let text = e.to_string();
+        assert!(e.is_bad_input(), "{text}");
+        assert!(
+            text.contains("release.cells") && text.contains("once each"),
+            "{text}"
+        );
+    }
+}
