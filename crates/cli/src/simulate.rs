@@ -247,12 +247,20 @@ pub fn print_summary(title: &str, results: &Results) {
     let s = results.summary();
     let f = two_decimals;
     println!("{title}");
+    let wall_s = s.wall_time_s.unwrap_or(0.0);
+    let events_per_s = if wall_s > 0.0 {
+        s.events as f64 / wall_s
+    } else {
+        0.0
+    };
     println!(
-        "  {} rocks in {:.2} s ({:.0} trajectories/s on {} threads)",
+        "  {} rocks in {wall_s:.2} s ({:.0} trajectories/s, {:.3} M events/s on {} threads; {} \
+         events per rock)",
         s.rocks,
-        s.wall_time_s.unwrap_or(0.0),
         s.trajectories_per_s.unwrap_or(0.0),
-        s.threads
+        events_per_s / 1e6,
+        s.threads,
+        s.events_per_rock.map_or("–".into(), |e| format!("{e:.0}"))
     );
     println!(
         "  stopped {}, left the DEM {}",

@@ -142,6 +142,7 @@ impl Rock<'_, '_, '_> {
         self.settle_at_release();
         self.record(Event::Flight);
         let mut events = 0u32;
+        let mut segments = 0u32;
         let outcome = loop {
             events += 1;
             if events > MAX_EVENTS || !(self.p.is_finite() && self.v.is_finite()) {
@@ -151,6 +152,7 @@ impl Rock<'_, '_, '_> {
             if remaining <= 0.0 {
                 break Outcome::TimeLimit;
             }
+            segments += 1;
             let step = if self.rolling {
                 self.roll()
             } else {
@@ -160,7 +162,7 @@ impl Rock<'_, '_, '_> {
                 break outcome;
             }
         };
-        self.finish(outcome);
+        self.finish(outcome, segments);
     }
 
     /// Kinetic energy (translational at `v` plus the current rotation), J.
@@ -172,7 +174,8 @@ impl Rock<'_, '_, '_> {
         self.world.ground.cell_index(self.p.x, self.p.y)
     }
 
-    fn finish(&mut self, outcome: Outcome) {
+    /// Ends the rock with `outcome` after `events` segments (flight arcs, rolling steps).
+    fn finish(&mut self, outcome: Outcome, events: u32) {
         self.flush_visit();
         if matches!(
             outcome,
@@ -194,6 +197,7 @@ impl Rock<'_, '_, '_> {
             stems_broken: self.broken,
             rebounds: self.rebounds,
             time_s: self.t,
+            events,
         });
     }
 

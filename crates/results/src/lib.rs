@@ -195,6 +195,10 @@ pub struct RockEnd {
     pub rebounds: u32,
     /// Simulated time, s.
     pub time_s: f64,
+    /// Events the engine simulated for this rock: flight arcs and rolling steps (lumped),
+    /// time steps (rigid). Their rate is the engine's cost per unit of path; trajectories/s
+    /// also depend on how long the paths are. (32 bits keep a [`RockRecord`] at 120 bytes.)
+    pub events: u32,
 }
 
 /// One rock's run: where it started and how it ended (kept when `Layout::rock_ends`).

@@ -66,6 +66,11 @@ pub struct Summary {
     pub stems_broken_per_rock: Option<f64>,
     /// Ground rebounds per rock.
     pub rebounds_per_rock: Option<f64>,
+    /// Events the engine simulated over all rocks: flight arcs and rolling steps (lumped), time
+    /// steps (rigid); `events / wall_time_s` is the engine's cost per event.
+    pub events: u64,
+    /// Events per rock.
+    pub events_per_rock: Option<f64>,
     /// Cells visited by at least one rock.
     pub cells_reached: u64,
     /// Rows of `trajectories.csv`.
@@ -217,6 +222,8 @@ impl Results {
             tree_impacts_per_rock: per_rock(r.tree_impacts),
             stems_broken_per_rock: per_rock(r.stems_broken),
             rebounds_per_rock: per_rock(r.rebounds),
+            events: r.events,
+            events_per_rock: per_rock(r.events),
             cells_reached: cells_reached as u64,
             trajectory_rows: self.rows.len() as u64,
             screens,

@@ -43,6 +43,8 @@ pub(crate) struct RockStats {
     pub(crate) stems_broken: u64,
     /// Sum of ground rebounds.
     pub(crate) rebounds: u64,
+    /// Sum of the engine's events (see [`crate::RockEnd::events`]).
+    pub(crate) events: u64,
 }
 
 /// Names of the outcomes, in the order of [`RockStats::outcomes`] (see [`Outcome::name`]).
@@ -71,6 +73,7 @@ impl RockStats {
             tree_impacts: 0,
             stems_broken: 0,
             rebounds: 0,
+            events: 0,
         }
     }
 
@@ -85,6 +88,7 @@ impl RockStats {
         self.tree_impacts += o.tree_impacts;
         self.stems_broken += o.stems_broken;
         self.rebounds += o.rebounds;
+        self.events += o.events;
     }
 
     /// Rocks ended.
@@ -236,6 +240,7 @@ impl Tally {
         r.tree_impacts += u64::from(end.tree_impacts);
         r.stems_broken += u64::from(end.stems_broken);
         r.rebounds += u64::from(end.rebounds);
+        r.events += u64::from(end.events);
     }
 
     /// Adds everything `other` (a tally of the same layout, with no rock in progress)

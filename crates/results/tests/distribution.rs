@@ -102,6 +102,7 @@ fn the_speed_profile_holds_every_visit_at_its_distance_from_release() {
             stems_broken: 0,
             rebounds: 0,
             time_s: 1.0,
+            events: 0,
         });
     }
     let r = Results::new(&layout, tally, RunInfo::default());

@@ -32,6 +32,7 @@ fn end(outcome: Outcome) -> RockEnd {
         stems_broken: 0,
         rebounds: 2,
         time_s: 3.0,
+        events: 0,
     }
 }
 

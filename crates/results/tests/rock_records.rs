@@ -100,6 +100,7 @@ fn start_and_end_land_in_their_fields() {
         stems_broken: 1 + k as u32,
         rebounds: 5 + k as u32,
         time_s: 4.5 + k,
+        events: 0,
     };
     let ends = [
         (9, end(Outcome::NetStopped { cell: 17 }, 1.0)),

@@ -127,6 +127,9 @@ const OLD_RIGID_PARAMETERS: [&str; 21] = [
     "rest_time_s",
 ];
 /// What the rigid parameters gained: the `[rigid]` settings under their scenario-file keys.
+/// Keys added since: the engine's events (flight arcs and rolling steps, or time steps).
+const NEW_KEYS: [&str; 2] = ["events", "events_per_rock"];
+
 const NEW_RIGID_PARAMETERS: [&str; 7] = [
     "solver_alpha",
     "solver_tolerance_ms",
@@ -140,7 +143,8 @@ const NEW_RIGID_PARAMETERS: [&str; 7] = [
 #[test]
 fn the_summary_has_exactly_the_keys_of_the_old_construction() {
     let s = run(200, "lumped", lumped_parameters()).summary_json();
-    assert_eq!(keys(&s), sorted(&OLD_KEYS));
+    let all: Vec<&str> = OLD_KEYS.iter().chain(&NEW_KEYS).copied().collect();
+    assert_eq!(keys(&s), sorted(&all));
     assert_eq!(keys(&s["outcomes"]), sorted(&OLD_OUTCOMES));
     assert_eq!(keys(&s["runout_m"]), sorted(&["p50", "p95", "max", "mean"]));
     for k in ["max_velocity_ms", "max_jump_height_m"] {
@@ -319,6 +323,7 @@ fn hand_rock(t: &mut Tally, rock_id: u64, cells: &[usize], tree_cell: usize, out
         stems_broken: 0,
         rebounds: 2,
         time_s: 1.0,
+        events: 7,
     });
 }
 
@@ -337,4 +342,5 @@ fn cells_reached_are_the_cells_rocks_went_through() {
     assert_eq!(s.net_stopped_fraction, Some(0.5));
     assert_eq!(s.tree_impacts_per_rock, Some(1.0));
     assert_eq!(s.rebounds_per_rock, Some(2.0));
+    assert_eq!((s.events, s.events_per_rock), (14, Some(7.0)));
 }

@@ -431,5 +431,7 @@ fn finish(
         stems_broken: 0,
         rebounds: log.rebounds,
         time_s,
+        // the steps taken: the time is a whole number of them
+        events: (time_s / world.step.dt_s).round() as u32,
     });
 }

@@ -142,6 +142,7 @@ mod tests {
                 stems_broken: 0,
                 rebounds: 0,
                 time_s: 0.0,
+                events: 0,
             },
         }
     }
