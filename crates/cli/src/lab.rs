@@ -34,11 +34,7 @@ pub struct LabFlags {
 
 /// Bad flags and unreadable inputs are the user's; anything else is ours.
 fn failure(e: LabError) -> Failure {
-    if e.is_bad_input() {
-        Failure::BadInput(e.into())
-    } else {
-        Failure::Internal(e.into())
-    }
+    Failure::of(e.is_bad_input(), e)
 }
 
 /// The rock shape `flag` (`--shape` or `--shapes`) names in `shape`, a file read into its points
@@ -129,25 +125,19 @@ pub struct StudyFlags {
 
 /// `rockfall shape-study`.
 pub fn shape_study(flags: &StudyFlags, out: &Path) -> Result<(), Failure> {
-    let (base, forest) = match &flags.input {
-        Some(input) => {
-            let overrides = Overrides {
-                seed: flags.seed,
-                ..Overrides::default()
-            };
-            crate::commands::load_simulation(input, &overrides)?.into_parts()
-        }
+    let overrides = Overrides {
+        seed: flags.seed,
+        ..Overrides::default()
+    };
+    let sim = match &flags.input {
+        Some(input) => crate::commands::load_simulation(input, &overrides)?,
         None => {
             let site = rockfall_sites::build("forest-slope-40")
                 .map_err(|e| Failure::Internal(e.into()))?;
-            let overrides = Overrides {
-                seed: flags.seed,
-                ..Overrides::default()
-            };
-            let sim = Simulation::new(site, &overrides).map_err(|e| Failure::Internal(e.into()))?;
-            sim.into_parts()
+            Simulation::new(site, &overrides).map_err(|e| Failure::Internal(e.into()))?
         }
     };
+    let (base, forest) = sim.into_parts();
     let shapes = (flags.shapes.iter())
         .map(|s| Ok((shape_label(s), parse_shape("--shapes", s)?)))
         .collect::<Result<Vec<_>, Failure>>()?;

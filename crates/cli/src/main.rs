@@ -18,6 +18,18 @@ pub enum Failure {
     Internal(anyhow::Error),
 }
 
+impl Failure {
+    /// A library error that says whether the input is at fault (`bad_input`): exit 2 if so,
+    /// 1 otherwise.
+    pub fn of(bad_input: bool, e: impl Into<anyhow::Error>) -> Failure {
+        if bad_input {
+            Failure::BadInput(e.into())
+        } else {
+            Failure::Internal(e.into())
+        }
+    }
+}
+
 impl From<rockfall_io::InputError> for Failure {
     fn from(e: rockfall_io::InputError) -> Self {
         Failure::BadInput(e.into())

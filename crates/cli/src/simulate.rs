@@ -27,29 +27,17 @@ pub fn threads(requested: Option<u64>) -> usize {
 /// An error of the driver as the command line reports it: bad input names its file, or
 /// `input` when the error names none.
 pub fn sim_failure(e: SimError, input: &Path) -> Failure {
-    if !e.is_bad_input() {
-        return Failure::Internal(e.into());
-    }
     match e.file() {
-        Some(_) => Failure::BadInput(e.into()),
-        None => Failure::BadInput(anyhow!("{}: {e}", input.display())),
+        None if e.is_bad_input() => Failure::BadInput(anyhow!("{}: {e}", input.display())),
+        _ => Failure::of(e.is_bad_input(), e),
     }
 }
 
-/// Simulates `scenario` with `forest` (none: without trees) on `threads` workers, with a
-/// progress bar labelled `label`.
-pub fn simulate(
-    scenario: &Scenario,
-    forest: Option<&Forest>,
-    threads: usize,
-    label: &str,
-) -> Result<Results, Failure> {
-    rockfall_sim::run_observed(scenario, forest, threads, label, &Console::default()).map_err(|e| {
-        match e.is_bad_input() {
-            true => Failure::BadInput(e.into()),
-            false => Failure::Internal(e.into()),
-        }
-    })
+/// Runs every rock of `sim`, with its forest or without, with a progress bar labelled
+/// `label`.
+pub fn simulate(sim: &Simulation, with_forest: bool, label: &str) -> Result<Results, Failure> {
+    sim.run(with_forest, label, &Console::default())
+        .map_err(|e| Failure::of(e.is_bad_input(), e))
 }
 
 /// What the terminal shows of runs: a progress bar per run (on a terminal only), a warning
@@ -122,13 +110,18 @@ impl Observer for Console {
     }
 
     fn wrote(&self, out: &Path, files: &[PathBuf]) {
-        println!(
-            "wrote {} files to {} (open {})",
-            files.len(),
-            out.display(),
-            out.join("report.html").display()
-        );
+        print_written(out, files);
     }
+}
+
+/// Says how many files went into `out` and which page to open.
+fn print_written(out: &Path, files: &[PathBuf]) {
+    println!(
+        "wrote {} files to {} (open {})",
+        files.len(),
+        out.display(),
+        out.join("report.html").display()
+    );
 }
 
 /// Seconds of running after which the rate is trusted for an estimate.
@@ -228,7 +221,7 @@ pub fn write(results: &Results, out: &Path, ascii: bool, ctx: &Context<'_>) -> R
         rockfall_report::write_run(out, ascii, &input).map_err(|e| Failure::Internal(e.into()))?;
     let mut listed = ctx.files.clone();
     listed.extend(files);
-    Console::default().wrote(out, &listed);
+    print_written(out, &listed);
     Ok(())
 }
 
@@ -300,7 +293,7 @@ pub fn demo(out: &Path) -> Result<(), Failure> {
     let site = rockfall_sites::build("vaujany-site2").map_err(|e| Failure::Internal(e.into()))?;
     let sim =
         Simulation::new(site, &Overrides::default()).map_err(|e| Failure::Internal(e.into()))?;
-    let (scenario, forest, threads) = (sim.scenario(), sim.forest(), sim.threads());
+    let (scenario, forest) = (sim.scenario(), sim.forest());
     println!(
         "demo: {} — {} rocks from one source cell, {} stems",
         scenario.name,
@@ -308,8 +301,8 @@ pub fn demo(out: &Path) -> Result<(), Failure> {
         forest.len()
     );
     let ascii = scenario.output.ascii_rasters;
-    let with = simulate(scenario, Some(forest), threads, "with forest")?;
-    let without = simulate(scenario, None, threads, "without forest")?;
+    let with = simulate(&sim, true, "with forest")?;
+    let without = simulate(&sim, false, "without forest")?;
     let effect = ForestEffect::new(&with, &without);
     let effect_files = effect
         .write(out, ascii)

@@ -58,12 +58,8 @@ impl ValidateFlags {
 /// `rockfall validate`.
 pub fn validate(flags: &ValidateFlags, out: &Path) -> Result<(), Failure> {
     let settings = flags.settings()?;
-    let v = run_validation(&settings, out, &simulate::Console::default()).map_err(|e| {
-        match e.is_bad_input() {
-            true => Failure::BadInput(e.into()),
-            false => Failure::Internal(e.into()),
-        }
-    })?;
+    let v = run_validation(&settings, out, &simulate::Console::default())
+        .map_err(|e| Failure::of(e.is_bad_input(), e))?;
     print!("{}", report::terminal(&v.cases));
     print!("{}", report::sensitivity_terminal(&v.meta.sensitivity));
     println!();

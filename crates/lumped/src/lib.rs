@@ -149,18 +149,17 @@ impl Engine for LumpedModel<'_> {
         };
         let (row, col) = g.row_col(cell);
         let body = body_at(scenario, row, col)?;
-        let z = match release.origin {
-            Origin::Cell(_) => {
-                self.ground
-                    .height_m(x, y)
-                    .ok_or_else(|| LumpedError::BadRelease {
-                        row,
-                        col,
-                        what: "no ground surface at the cell centre (a nodata neighbour?)".into(),
-                    })?
-            }
-            Origin::Point(_) => self.ground.height_m(x, y).ok_or_else(off)?,
-        };
+        let z = self
+            .ground
+            .height_m(x, y)
+            .ok_or_else(|| match release.origin {
+                Origin::Cell(_) => LumpedError::BadRelease {
+                    row,
+                    col,
+                    what: "no ground surface at the cell centre (a nodata neighbour?)".into(),
+                },
+                Origin::Point(_) => off(),
+            })?;
         Ok(Launch {
             rock_id: 0,
             source_cell: cell,
