@@ -61,7 +61,7 @@ pub(crate) struct CellStats {
 }
 
 impl CellStats {
-    fn new(cell: usize) -> CellStats {
+    pub(crate) fn new(cell: usize) -> CellStats {
         CellStats {
             cell,
             last_rock: 0,
@@ -248,13 +248,18 @@ impl CellTable {
         }
     }
 
-    /// Adds every statistic of `other` (a table of the same grid).
-    pub(crate) fn merge(&mut self, other: CellTable) {
-        for stats in other.cells {
+    /// Adds the statistics of `cells` (of this grid), one entry per cell at most.
+    pub(crate) fn absorb(&mut self, cells: Vec<CellStats>) {
+        for stats in cells {
             if let Some(c) = self.entry(stats.cell) {
                 c.merge(stats);
             }
         }
+    }
+
+    /// Adds every statistic of `other` (a table of the same grid).
+    pub(crate) fn merge(&mut self, other: CellTable) {
+        self.absorb(other.cells);
     }
 }
 

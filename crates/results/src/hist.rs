@@ -143,10 +143,10 @@ pub(crate) const SHORT_BINS: usize = 6 * BINS_PER_DECADE as usize + 2;
 pub(crate) struct Stat {
     axis: &'static LazyLock<LogAxis>,
     scale: f64,
-    count: u64,
-    sum: u128,
-    max: f64,
-    hist: Vec<u64>,
+    pub(crate) count: u64,
+    pub(crate) sum: u128,
+    pub(crate) max: f64,
+    pub(crate) hist: Vec<u64>,
 }
 
 impl Stat {

@@ -42,10 +42,12 @@
 //! bytes, per rock) grow with the number of rocks.
 
 mod cells;
+mod codec;
 mod distribution;
 mod forest_effect;
 mod hist;
 mod parameters;
+mod persist;
 mod profile;
 mod results;
 mod screens;
@@ -53,6 +55,7 @@ mod summary;
 mod tally;
 mod write;
 
+pub use codec::DecodeError;
 pub use distribution::{Bin, Distribution, Quantity};
 pub use forest_effect::{
     CellDifferences, Difference, ForestEffect, ForestEffectSummary, ReachDifferences,
@@ -60,6 +63,10 @@ pub use forest_effect::{
 };
 pub use hist::PERCENTILE_RELATIVE_ERROR;
 pub use parameters::{LegacySolver, LumpedParameters, Parameters, RigidParameters, RunSize};
+pub use persist::{
+    SavedTally, TALLY_FILE, TALLY_FORMAT, TallyFileError, decode_tally, encode_tally, read_tally,
+    write_tally,
+};
 pub use profile::ProfileBin;
 pub use results::{Results, RunInfo};
 pub use screens::ScreenSet;
@@ -71,7 +78,7 @@ use rockfall_raster::{Crs, GridGeometry};
 use rockfall_scenario::{Scenario, Screen};
 
 /// What the tallies need to know about the run before it starts.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Layout {
     /// The DEM's grid: every cell index below is row-major on it.
     pub geometry: GridGeometry,

@@ -16,15 +16,15 @@ const SPEED_BINS: usize = 512;
 
 /// The speeds of the visits at one distance.
 #[derive(Debug, Clone)]
-struct SpeedHistogram {
+pub(crate) struct SpeedHistogram {
     /// Visits per speed bin `[j·step, (j+1)·step)`.
-    counts: Vec<u64>,
+    pub(crate) counts: Vec<u64>,
     /// Largest speed, m/s.
-    max_ms: f64,
+    pub(crate) max_ms: f64,
 }
 
 impl SpeedHistogram {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         SpeedHistogram {
             counts: vec![0; SPEED_BINS],
             max_ms: 0.0,
@@ -75,9 +75,9 @@ impl SpeedHistogram {
 #[derive(Debug, Clone)]
 pub(crate) struct SpeedProfile {
     /// Width of a bin, m.
-    bin_m: f64,
+    pub(crate) bin_m: f64,
     /// Bin `k` holds visits at distances in `[k·bin_m, (k+1)·bin_m)`; grown on demand.
-    bins: Vec<SpeedHistogram>,
+    pub(crate) bins: Vec<SpeedHistogram>,
 }
 
 impl SpeedProfile {

@@ -9,7 +9,7 @@ use crate::{Layout, Parameters, RockRecord, Tally, TrajectoryRow};
 pub(crate) const NODATA: f64 = -9999.0;
 
 /// What the run was, beside what its tally holds.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct RunInfo {
     /// Engine name: `"lumped"` or `"rigid"`.
     pub engine: String,

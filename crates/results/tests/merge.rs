@@ -4,8 +4,8 @@
 
 mod common;
 
-use common::{layout, simulate_rock};
-use rockfall_results::{Results, RunInfo, Tally};
+use common::{assert_identical, layout, results, simulate_rock};
+use rockfall_results::{Results, Tally};
 
 const ROCKS: u64 = 400;
 
@@ -19,63 +19,6 @@ fn four_tallies() -> [Tally; 4] {
         simulate_rock(&mut t[((i / 3) % 4) as usize], ROCKS - 1 - i);
     }
     t
-}
-
-fn results(tally: Tally, threads: usize, wall: f64) -> Results {
-    let info = RunInfo {
-        engine: "lumped".into(),
-        scenario: "test".into(),
-        seed: 42,
-        threads,
-        wall_time_s: wall,
-        parameters: Default::default(),
-    };
-    Results::new(&layout(), tally, info)
-}
-
-/// Summary without the keys that may depend on the thread count.
-fn summary(r: &Results) -> serde_json::Value {
-    let mut s = r.summary_json();
-    let m = s.as_object_mut().unwrap();
-    for k in ["threads", "wall_time_s", "trajectories_per_s"] {
-        assert!(m.remove(k).is_some(), "{k}");
-    }
-    s
-}
-
-fn assert_identical(a: &Results, b: &Results) {
-    assert_eq!(summary(a), summary(b));
-    assert_eq!(a.raster_names(), b.raster_names());
-    for name in a.raster_names() {
-        let (ga, gb) = (a.raster(&name).unwrap(), b.raster(&name).unwrap());
-        assert_eq!(ga.mask(), gb.mask(), "{name}");
-        let bits = |g: &rockfall_raster::Grid<f64>| -> Vec<u64> {
-            g.values().iter().map(|v| v.to_bits()).collect()
-        };
-        assert_eq!(bits(&ga), bits(&gb), "{name}");
-    }
-    let bits = |r: &Results| -> Vec<(u64, u64)> {
-        (r.trajectories().iter())
-            .map(|t| (t.rock_id, t.t_s.to_bits()))
-            .collect()
-    };
-    assert_eq!(bits(a), bits(b));
-    let profile = |r: &Results| -> Vec<[u64; 5]> {
-        (r.speed_profile().iter())
-            .map(|p| {
-                let f = |v: f64| v.to_bits();
-                [
-                    f(p.from_m),
-                    p.visits,
-                    f(p.median_ms),
-                    f(p.p95_ms),
-                    f(p.max_ms),
-                ]
-            })
-            .collect()
-    };
-    assert!(!profile(a).is_empty(), "the speed profile must hold visits");
-    assert_eq!(profile(a), profile(b));
 }
 
 #[test]

@@ -6,8 +6,8 @@ use std::sync::Arc;
 
 use rockfall_raster::{Crs, GridGeometry};
 use rockfall_results::{
-    CellVisit, Event, Layout, LegacySolver, LumpedParameters, Outcome, Parameters, RigidParameters,
-    RockEnd, RockStart, RunSize, ScreenCrossing, Tally, TrajectoryRow,
+    CellVisit, Event, Layout, LegacySolver, LumpedParameters, Outcome, Parameters, Results,
+    RigidParameters, RockEnd, RockStart, RunInfo, RunSize, ScreenCrossing, Tally, TrajectoryRow,
 };
 use rockfall_scenario::{ContactSettings, LumpedSettings, RigidParams, Screen, Slippage};
 
@@ -202,4 +202,64 @@ fn size() -> RunSize {
         release_points: 0,
         stems: 1333,
     }
+}
+
+/// The results of a merged `tally` on [`layout`], seed 42.
+pub fn results(tally: Tally, threads: usize, wall: f64) -> Results {
+    let info = RunInfo {
+        engine: "lumped".into(),
+        scenario: "test".into(),
+        seed: 42,
+        threads,
+        wall_time_s: wall,
+        parameters: Default::default(),
+    };
+    Results::new(&layout(), tally, info)
+}
+
+/// Summary without the keys that may depend on the thread count.
+pub fn summary(r: &Results) -> serde_json::Value {
+    let mut s = r.summary_json();
+    let m = s.as_object_mut().unwrap();
+    for k in ["threads", "wall_time_s", "trajectories_per_s"] {
+        assert!(m.remove(k).is_some(), "{k}");
+    }
+    s
+}
+
+/// Every raster, the summary (timings aside), the trajectories and the speed profile agree
+/// bit for bit.
+pub fn assert_identical(a: &Results, b: &Results) {
+    assert_eq!(summary(a), summary(b));
+    assert_eq!(a.raster_names(), b.raster_names());
+    for name in a.raster_names() {
+        let (ga, gb) = (a.raster(&name).unwrap(), b.raster(&name).unwrap());
+        assert_eq!(ga.mask(), gb.mask(), "{name}");
+        let bits = |g: &rockfall_raster::Grid<f64>| -> Vec<u64> {
+            g.values().iter().map(|v| v.to_bits()).collect()
+        };
+        assert_eq!(bits(&ga), bits(&gb), "{name}");
+    }
+    let bits = |r: &Results| -> Vec<(u64, u64)> {
+        (r.trajectories().iter())
+            .map(|t| (t.rock_id, t.t_s.to_bits()))
+            .collect()
+    };
+    assert_eq!(bits(a), bits(b));
+    let profile = |r: &Results| -> Vec<[u64; 5]> {
+        (r.speed_profile().iter())
+            .map(|p| {
+                let f = |v: f64| v.to_bits();
+                [
+                    f(p.from_m),
+                    p.visits,
+                    f(p.median_ms),
+                    f(p.p95_ms),
+                    f(p.max_ms),
+                ]
+            })
+            .collect()
+    };
+    assert!(!profile(a).is_empty(), "the speed profile must hold visits");
+    assert_eq!(profile(a), profile(b));
 }

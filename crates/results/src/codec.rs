@@ -1,0 +1,206 @@
+//! Little-endian binary encoding for tally files: fixed-width integers and the bit patterns of
+//! floats, so that a decoded value is the encoded one, bit for bit.
+
+/// Appends values to a byte buffer.
+#[derive(Debug, Default)]
+pub(crate) struct Enc {
+    pub(crate) buf: Vec<u8>,
+}
+
+impl Enc {
+    pub(crate) fn u8(&mut self, v: u8) {
+        self.buf.push(v);
+    }
+
+    pub(crate) fn u32(&mut self, v: u32) {
+        self.buf.extend_from_slice(&v.to_le_bytes());
+    }
+
+    pub(crate) fn u64(&mut self, v: u64) {
+        self.buf.extend_from_slice(&v.to_le_bytes());
+    }
+
+    pub(crate) fn u128(&mut self, v: u128) {
+        self.buf.extend_from_slice(&v.to_le_bytes());
+    }
+
+    /// The bit pattern of `v` (NaN payloads and signed zeros survive).
+    pub(crate) fn f64(&mut self, v: f64) {
+        self.u64(v.to_bits());
+    }
+
+    pub(crate) fn len(&mut self, n: usize) {
+        self.u64(n as u64);
+    }
+
+    /// A histogram as its non-empty bins: their number, then (bin, count) pairs.
+    pub(crate) fn sparse<C: Copy + Into<u64>>(&mut self, counts: &[C]) {
+        let nonzero = counts.iter().filter(|&&c| c.into() > 0).count();
+        self.len(nonzero);
+        for (i, &c) in counts.iter().enumerate() {
+            let c: u64 = c.into();
+            if c > 0 {
+                self.u32(i as u32);
+                self.u64(c);
+            }
+        }
+    }
+}
+
+/// Why bytes could not be decoded.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DecodeError {
+    /// The bytes end before the value at this offset.
+    #[error("truncated at byte {0}")]
+    Truncated(usize),
+    /// A value is impossible (a bin past the histogram, a count that does not fit).
+    #[error("corrupt at byte {offset}: {what}")]
+    Corrupt {
+        /// Byte offset of the value.
+        offset: usize,
+        /// What is wrong.
+        what: String,
+    },
+}
+
+/// Reads values back in the order [`Enc`] wrote them.
+pub(crate) struct Dec<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> Dec<'a> {
+    pub(crate) fn new(bytes: &'a [u8]) -> Self {
+        Dec { bytes, pos: 0 }
+    }
+
+    pub(crate) fn take(&mut self, n: usize) -> Result<&'a [u8], DecodeError> {
+        let end = self.pos.checked_add(n).filter(|&e| e <= self.bytes.len());
+        let end = end.ok_or(DecodeError::Truncated(self.pos))?;
+        let s = &self.bytes[self.pos..end];
+        self.pos = end;
+        Ok(s)
+    }
+
+    fn array<const N: usize>(&mut self) -> Result<[u8; N], DecodeError> {
+        let mut a = [0; N];
+        a.copy_from_slice(self.take(N)?);
+        Ok(a)
+    }
+
+    pub(crate) fn u8(&mut self) -> Result<u8, DecodeError> {
+        Ok(self.take(1)?[0])
+    }
+
+    pub(crate) fn u32(&mut self) -> Result<u32, DecodeError> {
+        Ok(u32::from_le_bytes(self.array()?))
+    }
+
+    pub(crate) fn u64(&mut self) -> Result<u64, DecodeError> {
+        Ok(u64::from_le_bytes(self.array()?))
+    }
+
+    pub(crate) fn u128(&mut self) -> Result<u128, DecodeError> {
+        Ok(u128::from_le_bytes(self.array()?))
+    }
+
+    pub(crate) fn f64(&mut self) -> Result<f64, DecodeError> {
+        Ok(f64::from_bits(self.u64()?))
+    }
+
+    /// A length written by [`Enc::len`], at most `max` (what the remaining bytes could hold
+    /// at `min_size` bytes per element, so that corrupt lengths never allocate).
+    pub(crate) fn len(&mut self, min_size: usize) -> Result<usize, DecodeError> {
+        let at = self.pos;
+        let n = self.u64()?;
+        let room = (self.bytes.len() - self.pos) / min_size.max(1);
+        usize::try_from(n)
+            .ok()
+            .filter(|&n| n <= room)
+            .ok_or_else(|| self.corrupt(at, format!("length {n} exceeds the file")))
+    }
+
+    pub(crate) fn corrupt(&self, offset: usize, what: String) -> DecodeError {
+        DecodeError::Corrupt { offset, what }
+    }
+
+    /// Adds a histogram written by [`Enc::sparse`] into `counts` (whose length is the
+    /// histogram's); `narrow` converts a count to the bin type.
+    pub(crate) fn sparse_into<C>(
+        &mut self,
+        counts: &mut [C],
+        narrow: impl Fn(u64) -> Option<C>,
+    ) -> Result<(), DecodeError> {
+        let n = self.len(12)?;
+        for _ in 0..n {
+            let at = self.pos;
+            let (i, c) = (self.u32()? as usize, self.u64()?);
+            let slot = counts.get_mut(i);
+            match (slot, narrow(c)) {
+                (Some(slot), Some(c)) => *slot = c,
+                _ => return Err(self.corrupt(at, format!("bin {i} (count {c}) does not fit"))),
+            }
+        }
+        Ok(())
+    }
+
+    /// Offset of the next value.
+    pub(crate) fn pos(&self) -> usize {
+        self.pos
+    }
+
+    /// Bytes not read yet.
+    pub(crate) fn remaining(&self) -> usize {
+        self.bytes.len() - self.pos
+    }
+}
+
+/// 64-bit FNV-1a hash of `bytes`: the checksum closing a tally file.
+pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_come_back_bit_for_bit_and_truncation_is_an_error() {
+        let mut e = Enc::default();
+        e.u8(7);
+        e.u32(0xdead_beef);
+        e.u64(u64::MAX - 3);
+        e.u128(u128::MAX / 7);
+        e.f64(-0.0);
+        e.f64(f64::from_bits(0x7ff8_0000_0000_0123));
+        e.sparse(&[0u32, 5, 0, 9]);
+        let mut d = Dec::new(&e.buf);
+        assert_eq!(d.u8(), Ok(7));
+        assert_eq!(d.u32(), Ok(0xdead_beef));
+        assert_eq!(d.u64(), Ok(u64::MAX - 3));
+        assert_eq!(d.u128(), Ok(u128::MAX / 7));
+        assert_eq!(d.f64().map(f64::to_bits), Ok((-0.0f64).to_bits()));
+        assert_eq!(d.f64().map(f64::to_bits), Ok(0x7ff8_0000_0000_0123));
+        let mut h = [0u32; 4];
+        d.sparse_into(&mut h, |c| u32::try_from(c).ok()).unwrap();
+        assert_eq!(h, [0, 5, 0, 9]);
+        assert_eq!(d.remaining(), 0);
+        assert_eq!(d.u8(), Err(DecodeError::Truncated(e.buf.len())));
+        // a bin past the histogram is refused
+        let mut small = [0u32; 2];
+        let mut d = Dec::new(&e.buf[e.buf.len() - 32..]);
+        assert!(
+            d.sparse_into(&mut small, |c| u32::try_from(c).ok())
+                .is_err()
+        );
+        // an absurd length is refused before anything is allocated
+        let mut d = Dec::new(&[0xff; 8]);
+        assert!(matches!(d.len(1), Err(DecodeError::Corrupt { .. })));
+        assert_ne!(fnv1a(b"a"), fnv1a(b"b"));
+    }
+}

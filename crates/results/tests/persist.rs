@@ -1,0 +1,132 @@
+//! Tally files: a tally written and read back merges exactly like the tally itself, and a
+//! damaged file is refused.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+mod common;
+
+use std::path::Path;
+use std::sync::Arc;
+
+use common::{assert_identical, layout, results, simulate_rock};
+use rockfall_results::{
+    Layout, RunInfo, Tally, TallyFileError, decode_tally, encode_tally, read_tally, write_tally,
+};
+
+const ROCKS: u64 = 300;
+
+fn info() -> RunInfo {
+    RunInfo {
+        engine: "lumped".into(),
+        scenario: "test".into(),
+        seed: 42,
+        threads: 3,
+        wall_time_s: 0.25,
+        parameters: Default::default(),
+    }
+}
+
+/// The tally of the rocks `ids` on `layout`.
+fn tally_of(layout: &Arc<Layout>, ids: impl Iterator<Item = u64>) -> Tally {
+    let mut t = Tally::new(layout.clone());
+    for i in ids {
+        simulate_rock(&mut t, i);
+    }
+    t
+}
+
+fn round_trip(t: &Tally) -> Tally {
+    let bytes = encode_tally(t, &info(), &"run").unwrap();
+    decode_tally::<String>(&bytes, Path::new("x.tally"))
+        .unwrap()
+        .tally
+}
+
+#[test]
+fn saved_shares_merge_into_the_single_run_bit_for_bit() {
+    let l = layout();
+    let single = results(tally_of(&l, 0..ROCKS), 1, 1.0);
+    // three uneven shares, each saved and read back, merged in reverse order
+    let shares = [0..40, 40..41, 41..ROCKS].map(|r| round_trip(&tally_of(&l, r)));
+    let mut merged = Tally::new(l.clone());
+    for s in shares.into_iter().rev() {
+        merged.merge(s);
+    }
+    let merged = results(merged, 2, 2.0);
+    assert_identical(&single, &merged);
+    assert_eq!(merged.rocks(), ROCKS);
+}
+
+#[test]
+fn a_file_is_the_same_whatever_the_merge_order_and_reads_back_what_was_written() {
+    let l = layout();
+    let one = tally_of(&l, 0..ROCKS);
+    let mut two = tally_of(&l, (0..ROCKS).filter(|i| i % 2 == 1));
+    two.merge(tally_of(&l, (0..ROCKS).filter(|i| i % 2 == 0)));
+    let a = encode_tally(&one, &info(), &7u32).unwrap();
+    let b = encode_tally(&two, &info(), &7u32).unwrap();
+    assert!(a == b, "the file depends on the merge order");
+    let saved = decode_tally::<u32>(&a, Path::new("a")).unwrap();
+    assert_eq!(saved.run, 7);
+    assert_eq!(*saved.layout, *l);
+    assert_eq!(saved.info.threads, 3);
+    assert_eq!(saved.info.wall_time_s, 0.25);
+    assert_eq!(saved.tally.rocks(), ROCKS);
+    // written again, the same bytes
+    assert!(encode_tally(&saved.tally, &saved.info, &7u32).unwrap() == a);
+}
+
+#[test]
+fn rock_records_survive_the_file() {
+    let mut keeping = (*layout()).clone();
+    keeping.rock_ends = true;
+    keeping.crs = None;
+    let l = Arc::new(keeping);
+    let t = tally_of(&l, 0..50);
+    let back = round_trip(&t);
+    let a = rockfall_results::Results::new(&l, t, info());
+    let b = rockfall_results::Results::new(&l, back, info());
+    assert_eq!(a.rock_records().len(), 50);
+    assert_eq!(a.rock_records(), b.rock_records());
+    assert_eq!(a.trajectories(), b.trajectories());
+}
+
+#[test]
+fn damaged_truncated_and_foreign_files_are_refused_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("rockfall.tally");
+    let t = tally_of(&layout(), 0..20);
+    write_tally(&path, &t, &info(), &"r").unwrap();
+    let good = std::fs::read(&path).unwrap();
+    assert_eq!(read_tally::<String>(&path).unwrap().tally.rocks(), 20);
+
+    let cases: [(&str, Vec<u8>); 4] = [
+        ("truncated", good[..good.len() - 9].to_vec()),
+        ("flipped", {
+            let mut b = good.clone();
+            let k = b.len() / 2;
+            b[k] ^= 0x10;
+            b
+        }),
+        ("foreign", b"GTiff not a tally at all".to_vec()),
+        ("other format", {
+            let mut b = good.clone();
+            b[8] = 99;
+            b
+        }),
+    ];
+    for (what, bytes) in cases {
+        let bad = dir.path().join(format!("{what}.tally"));
+        std::fs::write(&bad, bytes).unwrap();
+        let e = read_tally::<String>(&bad).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains(&format!("{what}.tally")), "{what}: {msg}");
+        match what {
+            "foreign" => assert!(matches!(e, TallyFileError::NotATally { .. }), "{msg}"),
+            "other format" => assert!(matches!(e, TallyFileError::Format { found: 99, .. })),
+            _ => assert!(matches!(e, TallyFileError::Damaged { .. }), "{what}: {msg}"),
+        }
+    }
+    let missing = read_tally::<String>(&dir.path().join("none.tally")).unwrap_err();
+    assert!(matches!(missing, TallyFileError::Io { .. }));
+}
