@@ -412,6 +412,7 @@ fn simulation(s: Option<schema::SimulationSec>) -> SimulationSettings {
         max_time_s: s.max_time_s.unwrap_or(d.max_time_s),
         rocks_per_cell: s.rocks_per_cell.unwrap_or(d.rocks_per_cell),
         rocks_per_point: s.rocks_per_point.unwrap_or(d.rocks_per_point),
+        until_stable_pct: s.until_stable_pct,
     }
 }
 

@@ -172,6 +172,7 @@ pub struct SimulationSec {
     pub max_time_s: Option<f64>,
     pub rocks_per_cell: Option<u64>,
     pub rocks_per_point: Option<u64>,
+    pub until_stable_pct: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -328,6 +328,9 @@ fn settings_toml(s: &Scenario, t: &mut String) {
         m.rocks_per_cell,
         m.rocks_per_point
     );
+    if let Some(tol) = m.until_stable_pct {
+        let _ = writeln!(t, "until_stable_pct = {}", num(tol));
+    }
     let o = &s.output;
     let _ = write!(
         t,

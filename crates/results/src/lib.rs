@@ -43,6 +43,7 @@
 
 mod cells;
 mod codec;
+mod convergence;
 mod distribution;
 mod forest_effect;
 mod hist;
@@ -55,7 +56,8 @@ mod summary;
 mod tally;
 mod write;
 
-pub use codec::DecodeError;
+pub use codec::{DecodeError, Fnv1a};
+pub use convergence::{ConvergenceSummary, MIN_REACH_PCT, MapChange, MapSnapshot};
 pub use distribution::{Bin, Distribution, Quantity};
 pub use forest_effect::{
     CellDifferences, Difference, ForestEffect, ForestEffectSummary, ReachDifferences,

@@ -3,6 +3,7 @@
 use rockfall_raster::{Grid, SampleType};
 
 use crate::cells::CellStats;
+use crate::convergence::ConvergenceSummary;
 use crate::{Layout, Parameters, RockRecord, Tally, TrajectoryRow};
 
 /// Nodata marker written into the float rasters.
@@ -69,6 +70,8 @@ pub struct Results {
     pub(crate) rows: Vec<TrajectoryRow>,
     /// One record per rock, sorted by rock id (empty unless `layout.rock_ends`).
     pub(crate) rock_records: Vec<RockRecord>,
+    /// How a convergence-driven run ended (`summary.json` `convergence`).
+    pub(crate) convergence: Option<ConvergenceSummary>,
 }
 
 /// `E_<p>` raster name: `E_95` for 95, `E_99.5` for 99.5.
@@ -91,7 +94,14 @@ impl Results {
             info,
             rows: rows.into_iter().map(|(_, _, r)| r).collect(),
             rock_records,
+            convergence: None,
         }
+    }
+
+    /// The same results, recorded as the end of a convergence-driven run.
+    pub fn with_convergence(mut self, convergence: ConvergenceSummary) -> Results {
+        self.convergence = Some(convergence);
+        self
     }
 
     /// What the run was.

@@ -3,6 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::Results;
+use crate::convergence::ConvergenceSummary;
 use crate::hist::Stat;
 use crate::parameters::Parameters;
 
@@ -82,6 +83,9 @@ pub struct Summary {
     pub percentile_relative_error: f64,
     /// The engine's parameters.
     pub parameters: Parameters,
+    /// How a convergence-driven run (`--until-stable`) ended; absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub convergence: Option<ConvergenceSummary>,
 }
 
 /// Mean, 95th percentile and maximum of a statistic (`None` without values).
@@ -229,6 +233,7 @@ impl Results {
             screens,
             percentile_relative_error: crate::PERCENTILE_RELATIVE_ERROR,
             parameters: info.parameters.clone(),
+            convergence: self.convergence.clone(),
         }
     }
 

@@ -306,6 +306,11 @@ pub struct SimulationSettings {
     pub rocks_per_cell: u64,
     /// Rocks released per release point (default 1).
     pub rocks_per_point: u64,
+    /// Convergence-driven Monte Carlo (`until_stable_pct`, `--until-stable`): rocks run in
+    /// doubling batches until the maps change by at most this much between batches (%; see
+    /// `rockfall-sim`'s `converge`); `rocks_per_cell` and `rocks_per_point` are then the caps.
+    /// `None` (default): every rock at once.
+    pub until_stable_pct: Option<f64>,
 }
 
 impl Default for SimulationSettings {
@@ -315,6 +320,7 @@ impl Default for SimulationSettings {
             max_time_s: 60.0,
             rocks_per_cell: 100,
             rocks_per_point: 1,
+            until_stable_pct: None,
         }
     }
 }

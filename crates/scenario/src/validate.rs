@@ -307,7 +307,7 @@ impl Scenario {
     fn check_settings(&self) -> Check {
         let l = &self.lumped;
         let s = &self.simulation;
-        let checks: [(&str, f64, bool, &str); 11] = [
+        let checks: [(&str, f64, bool, &str); 12] = [
             (
                 "lumped.rt_variation",
                 l.rt_variation,
@@ -373,6 +373,12 @@ impl Scenario {
                 s.rocks_per_point as f64,
                 s.rocks_per_point >= 1,
                 "≥ 1",
+            ),
+            (
+                "simulation.until_stable_pct",
+                s.until_stable_pct.unwrap_or(1.0),
+                s.until_stable_pct.is_none_or(|t| t > 0.0 && t <= 100.0),
+                "0 < tolerance ≤ 100 %",
             ),
         ];
         for (name, value, ok, expected) in checks {
