@@ -39,9 +39,17 @@ pub enum Command {
     /// summary.json, trajectories.csv and .geojson, and report.html: an offline page with the
     /// maps (report/map_*.png, over the hillshade), distribution and profile plots, and every
     /// number of the run.
+    ///
+    /// Regional runs: `--partition i/N` runs the i-th of N fixed shares of the rocks (a job
+    /// of a job array) and also writes its exact tallies (rockfall.tally) for `rockfall
+    /// merge`; `--until-stable TOL` runs doubling batches until the maps change by at most
+    /// TOL % (rocks_per_cell and rocks_per_point are then the caps). Both save the run after
+    /// every batch (checkpoint.tally); `--resume OUT` continues an interrupted run to the
+    /// same end.
     Run {
-        /// Scenario file or Rockyfor3D input folder.
-        input: PathBuf,
+        /// Scenario file or Rockyfor3D input folder (not with --resume).
+        #[arg(required_unless_present = "resume", conflicts_with = "resume")]
+        input: Option<PathBuf>,
         /// Output folder (created if needed; files of an earlier run are replaced).
         #[arg(long, default_value = "rockfall-out")]
         out: PathBuf,
@@ -63,6 +71,43 @@ pub enum Command {
         #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
         threads: Option<u64>,
         /// Also write every raster as an ESRI ASCII grid (.asc + .prj) for Rockyfor3D users.
+        #[arg(long)]
+        ascii: bool,
+        /// Run only the i-th of N equal shares of the rocks (1 ≤ i ≤ N), fixed by source cell
+        /// and rock index under the master seed; writes the share's run folder and its exact
+        /// tallies (rockfall.tally) for `rockfall merge`.
+        #[arg(long, value_name = "i/N", value_parser = parse_partition, conflicts_with = "until_stable")]
+        partition: Option<rockfall_sim::Partition>,
+        /// Run doubling batches (10, 20, 40, … rocks per source cell and point) until
+        /// Reach_probability (percentage points, cells reached by ≥ 1 % of the rocks) and
+        /// E_95 (relative change of the map) change by at most TOL % between batches, or
+        /// until rocks_per_cell / rocks_per_point (the caps) are reached; default: the
+        /// scenario's `until_stable_pct`, none.
+        #[arg(long, value_name = "TOL", value_parser = parse_tolerance)]
+        until_stable: Option<f64>,
+        /// Continue the interrupted run whose output folder is DIR (its checkpoint.tally),
+        /// with the input, seed and rocks it started with; ends bit-identical to an
+        /// uninterrupted run.
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["engine", "rocks_per_cell", "rocks_per_point", "seed", "partition", "until_stable"])]
+        resume: Option<PathBuf>,
+    },
+    /// Merge the run folders of the shares of one run (`rockfall run --partition i/N`, all N
+    /// of them) into the folder of the whole run: tallies summed exactly, so the rasters and
+    /// summary.json are bit-identical to a single run's (timings aside). Folders of different
+    /// inputs, seeds or versions, missing or repeated shares, and unfinished shares are
+    /// refused (exit 2), naming the difference.
+    Merge {
+        /// The shares' output folders (each holds a rockfall.tally).
+        #[arg(required = true, num_args = 1..)]
+        dirs: Vec<PathBuf>,
+        /// Output folder of the merged run (created if needed).
+        #[arg(long, default_value = "rockfall-merged")]
+        out: PathBuf,
+        /// The input, where it is now, for the report's maps (default: the path the shares
+        /// recorded); without it only the rasters, summary and tables are written.
+        #[arg(long)]
+        input: Option<PathBuf>,
+        /// Also write every raster as an ESRI ASCII grid (.asc + .prj).
         #[arg(long)]
         ascii: bool,
     },
@@ -199,4 +244,19 @@ pub enum Command {
         #[arg(long, default_value = "rockfall-validation")]
         out: PathBuf,
     },
+}
+
+/// `i/N` as a [`rockfall_sim::Partition`].
+fn parse_partition(s: &str) -> Result<rockfall_sim::Partition, String> {
+    s.parse()
+}
+
+/// A convergence tolerance: a percentage above 0 and at most 100.
+fn parse_tolerance(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(t) if t > 0.0 && t <= 100.0 => Ok(t),
+        _ => Err(format!(
+            "`{s}`: the tolerance is a percentage above 0 and at most 100, e.g. 1"
+        )),
+    }
 }

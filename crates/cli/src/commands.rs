@@ -3,11 +3,12 @@
 use crate::Failure;
 use crate::args::Command;
 use crate::lab;
+use crate::regional;
 use crate::simulate;
 use crate::validate;
 use anyhow::anyhow;
 use rockfall_scenario::{Engine, Overview};
-use rockfall_sim::{Overrides, Simulation};
+use rockfall_sim::{Overrides, RunRecord, Simulation};
 use std::path::Path;
 
 /// Runs a subcommand.
@@ -33,7 +34,18 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             seed,
             threads,
             ascii,
+            partition,
+            until_stable,
+            resume,
         } => {
+            if let Some(dir) = resume {
+                return regional::resume(&dir, threads, ascii);
+            }
+            let Some(input) = input else {
+                return Err(Failure::BadInput(anyhow!(
+                    "run: give an INPUT or --resume DIR"
+                )));
+            };
             let engine = match engine {
                 None => None,
                 Some(e) => Some(
@@ -47,9 +59,24 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
                 rocks_per_point,
                 engine,
                 threads: threads.map(|n| n as usize),
+                until_stable_pct: until_stable,
             };
             // every override before the forest is built: a stand map is expanded from the seed
             let sim = load_simulation(&input, &overrides)?;
+            let batched = sim.scenario().simulation.until_stable_pct.is_some();
+            if partition.is_some() || batched {
+                let mut record = RunRecord::new(sim.scenario(), &regional::recorded_input(&input));
+                if let Some(p) = partition {
+                    record = record.with_partition(p);
+                }
+                let b = regional::Batched {
+                    sim,
+                    input: &input,
+                    record,
+                    saved: None,
+                };
+                return regional::run_batched(b, &out, ascii);
+            }
             let scenario = sim.scenario();
             let ascii = ascii || scenario.output.ascii_rasters;
             let results = simulate::simulate(&sim, true, "simulating")?;
@@ -58,6 +85,12 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             simulate::print_summary(&format!("{}:", scenario.name), &results);
             Ok(())
         }
+        Command::Merge {
+            dirs,
+            out,
+            input,
+            ascii,
+        } => regional::merge(&dirs, &out, input.as_deref(), ascii),
         Command::Demo { out } => simulate::demo(&out),
         Command::ImpactLab {
             shape,
@@ -133,6 +166,7 @@ fn output_folder(command: &Command) -> Option<&Path> {
     match command {
         Command::Demo { out }
         | Command::Run { out, .. }
+        | Command::Merge { out, .. }
         | Command::ImpactLab { out, .. }
         | Command::ShapeStudy { out, .. }
         | Command::Validate { out, .. } => Some(out),

@@ -4,6 +4,7 @@
 mod args;
 mod commands;
 mod lab;
+mod regional;
 mod simulate;
 mod validate;
 

@@ -100,6 +100,12 @@ impl Observer for Console {
         }
     }
 
+    fn ended(&self, _label: &str) {
+        if let Some(run) = self.run.lock().unwrap_or_else(|e| e.into_inner()).take() {
+            run.bar.finish_and_clear();
+        }
+    }
+
     fn finished(&self, label: &str, results: &Results) {
         if let Some(run) = self.run.lock().unwrap_or_else(|e| e.into_inner()).take() {
             run.bar.finish_and_clear();

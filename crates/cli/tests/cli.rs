@@ -302,6 +302,7 @@ fn every_command_has_help() {
         "impact-lab",
         "shape-study",
         "validate",
+        "merge",
     ];
     for c in commands {
         assert!(top.contains(c), "{c} missing from\n{top}");

@@ -22,14 +22,18 @@
 //! # }
 //! ```
 
+mod batches;
 mod observe;
 pub mod parameters;
 mod rock;
+pub mod share;
 
+pub use batches::{BatchState, CHECKPOINTS, FIRST_BATCH, Finished, per_release};
 pub use observe::{Observer, Quiet};
 pub use rock::RigidRock;
+pub use share::{MergeError, Merged, Partition, RunRecord};
 
-use rockfall_engine::{Engine, Plan, PoolError, RockSet};
+use rockfall_engine::{Engine, Plan, PoolError};
 use rockfall_forest::Forest;
 use rockfall_lumped::LumpedModel;
 use rockfall_results::{Layout, Parameters, Results, RunInfo, Tally};
@@ -39,7 +43,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
 
-pub use rockfall_engine::RunOptions;
+pub use rockfall_engine::{RockSet, RunOptions};
 
 /// What can stop a simulation. Each input error names the file its parameter came from,
 /// when the scenario was read from files ([`SimError::file`]).
@@ -73,6 +77,9 @@ pub enum SimError {
     /// The worker pool cannot start.
     #[error(transparent)]
     Pool(#[from] PoolError),
+    /// The run so far could not be saved after a batch (the message names the file).
+    #[error("cannot save the run so far: {0}")]
+    Checkpoint(String),
 }
 
 fn at(file: &Option<PathBuf>) -> String {
@@ -83,7 +90,7 @@ fn at(file: &Option<PathBuf>) -> String {
 impl SimError {
     /// True when the error is the input's fault (exit 2), false for an internal failure.
     pub fn is_bad_input(&self) -> bool {
-        !matches!(self, SimError::Pool(_))
+        !matches!(self, SimError::Pool(_) | SimError::Checkpoint(_))
     }
 
     /// The input file named by the error, if any.
@@ -92,7 +99,7 @@ impl SimError {
             SimError::Scenario { file, .. }
             | SimError::Forest { file, .. }
             | SimError::Engine { file, .. } => file.as_deref(),
-            SimError::Pool(_) => None,
+            SimError::Pool(_) | SimError::Checkpoint(_) => None,
         }
     }
 
@@ -112,7 +119,7 @@ fn source_of(scenario: &Scenario, keys: &[&str]) -> Option<PathBuf> {
 }
 
 /// What a caller may override in a scenario, applied before anything random happens.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Overrides {
     /// Master seed.
     pub seed: Option<u64>,
@@ -124,6 +131,8 @@ pub struct Overrides {
     pub engine: Option<EngineKind>,
     /// Worker threads (0 or none: every core).
     pub threads: Option<usize>,
+    /// Convergence tolerance, % (`--until-stable`): rocks run in doubling batches.
+    pub until_stable_pct: Option<f64>,
 }
 
 impl Overrides {
@@ -140,6 +149,9 @@ impl Overrides {
         }
         if let Some(e) = self.engine {
             scenario.engine = e;
+        }
+        if let Some(t) = self.until_stable_pct {
+            scenario.simulation.until_stable_pct = Some(t);
         }
     }
 
@@ -217,6 +229,30 @@ impl Simulation {
         run_observed(&self.scenario, forest, self.threads, label, observer)
     }
 
+    /// Runs the rocks of `rocks` with the forest, telling `observer` about the run labelled
+    /// `label`: their merged tally and the run's [`RunInfo`].
+    pub fn run_rocks(
+        &self,
+        rocks: &RockSet,
+        label: &str,
+        observer: &dyn Observer,
+    ) -> Result<(Tally, RunInfo), SimError> {
+        observer.started(label, rocks.below(self.rocks()).len());
+        let advanced = |n: u64| observer.advanced(n);
+        let opts = RunOptions {
+            threads: self.threads,
+            progress: Some(&advanced),
+        };
+        let out = run_tally(&self.scenario, self.stems(), Some(rocks), &opts)?;
+        observer.ended(label);
+        Ok(out)
+    }
+
+    /// Rocks of the run: every source cell's and every point's.
+    pub fn rocks(&self) -> u64 {
+        rocks(&self.scenario)
+    }
+
     /// The tally of the rocks of `rocks` (with the forest), on `layout`.
     pub fn tally(&self, layout: &Arc<Layout>, rocks: &RockSet) -> Result<Tally, SimError> {
         let opts = RunOptions {
@@ -261,6 +297,19 @@ pub fn run(
     rocks: Option<&RockSet>,
     opts: &RunOptions<'_>,
 ) -> Result<Results, SimError> {
+    let (tally, info) = run_tally(scenario, forest, rocks, opts)?;
+    let layout = tally.layout().clone();
+    Ok(Results::new(&layout, tally, info))
+}
+
+/// As [`run`], but the merged tally itself (to be saved, merged or continued) and the run's
+/// [`RunInfo`].
+pub fn run_tally(
+    scenario: &Scenario,
+    forest: Option<&Forest>,
+    rocks: Option<&RockSet>,
+    opts: &RunOptions<'_>,
+) -> Result<(Tally, RunInfo), SimError> {
     let layout = Arc::new(Layout::of(scenario));
     let started = Instant::now();
     let (tally, parameters) = tally(scenario, forest, &layout, rocks, opts)?;
@@ -272,7 +321,7 @@ pub fn run(
         wall_time_s: started.elapsed().as_secs_f64(),
         parameters,
     };
-    Ok(Results::new(&layout, tally, info))
+    Ok((tally, info))
 }
 
 /// The tally of `rocks` (none: all) of `scenario` with `forest` on `layout`, and the engine

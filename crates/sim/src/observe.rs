@@ -10,6 +10,9 @@ pub trait Observer: Sync {
     fn started(&self, _label: &str, _rocks: u64) {}
     /// `rocks` more rocks of the current run are done (called from the workers).
     fn advanced(&self, _rocks: u64) {}
+    /// The rocks of the run labelled `label` are done (a run that ends in a tally rather
+    /// than in [`Results`]: a partition, a batch).
+    fn ended(&self, _label: &str) {}
     /// The run labelled `label` is done.
     fn finished(&self, _label: &str, _results: &Results) {}
     /// `files` were written into `out`.

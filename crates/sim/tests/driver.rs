@@ -220,6 +220,7 @@ fn every_override_reaches_the_scenario() {
         rocks_per_point: Some(3),
         engine: Some(Engine::Lumped),
         threads: Some(3),
+        until_stable_pct: Some(0.5),
     };
     let sim = Simulation::new(s, &o).unwrap();
     let sc = sim.scenario();
@@ -228,6 +229,7 @@ fn every_override_reaches_the_scenario() {
     assert_eq!(sc.simulation.rocks_per_point, 3);
     assert_eq!(sc.engine, Engine::Lumped);
     assert_eq!(sim.threads(), 3);
+    assert_eq!(sc.simulation.until_stable_pct, Some(0.5));
     assert_eq!(rockfall_sim::rocks(sc), 4 * cells + 3 * points);
 }
 
