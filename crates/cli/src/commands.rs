@@ -61,6 +61,16 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
                 threads: threads.map(|n| n as usize),
                 until_stable_pct: until_stable,
             };
+            #[cfg(feature = "mpi")]
+            if crate::mpi_run::launched() {
+                if partition.is_some() || until_stable.is_some() {
+                    return Err(Failure::BadInput(anyhow!(
+                        "under mpirun the ranks are the partitions: run without --partition \
+                         and --until-stable"
+                    )));
+                }
+                return crate::mpi_run::run(&input, &overrides, &out, ascii);
+            }
             // every override before the forest is built: a stand map is expanded from the seed
             let sim = load_simulation(&input, &overrides)?;
             let batched = sim.scenario().simulation.until_stable_pct.is_some();

@@ -4,6 +4,8 @@
 mod args;
 mod commands;
 mod lab;
+#[cfg(feature = "mpi")]
+mod mpi_run;
 mod regional;
 mod simulate;
 mod validate;
@@ -17,6 +19,9 @@ pub enum Failure {
     BadInput(anyhow::Error),
     /// Our fault.
     Internal(anyhow::Error),
+    /// An MPI rank other than 0 exits with this code; rank 0 printed what went wrong.
+    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+    Rank(u8),
 }
 
 impl Failure {
@@ -27,6 +32,16 @@ impl Failure {
             Failure::BadInput(e.into())
         } else {
             Failure::Internal(e.into())
+        }
+    }
+}
+
+impl Failure {
+    /// What went wrong, with its causes (as printed).
+    pub fn text(&self) -> String {
+        match self {
+            Failure::BadInput(e) | Failure::Internal(e) => message(e),
+            Failure::Rank(code) => format!("exit {code}"),
         }
     }
 }
@@ -58,6 +73,7 @@ fn main() -> ExitCode {
             eprintln!("rockfall: {}", message(&e));
             ExitCode::from(1)
         }
+        Err(Failure::Rank(code)) => ExitCode::from(code),
     }
 }
 

@@ -57,9 +57,24 @@ pub fn run_batched(b: Batched<'_>, out: &Path, ascii: bool) -> Result<(), Failur
         .sim
         .run_batches(b.record, b.saved, &label, &console, &mut save)
         .map_err(|e| simulate::sim_failure(e, b.input))?;
+    write_run_folder(&b.sim, b.input, out, ascii, f)?;
+    remove_if_present(&checkpoint).map_err(|e| internal(e, &checkpoint))
+}
+
+/// Writes a finished run into `out`: its exact tallies (`rockfall.tally`) first, then the
+/// rasters, tables and report; prints its headline numbers.
+pub fn write_run_folder(
+    sim: &Simulation,
+    input: &Path,
+    out: &Path,
+    ascii: bool,
+    f: Finished,
+) -> Result<(), Failure> {
+    std::fs::create_dir_all(out)
+        .map_err(|e| Failure::Internal(anyhow!("{}: {e}", out.display())))?;
+    let finished = out.join(TALLY_FILE);
     write_tally(&finished, &f.tally, &f.info, &f.record)
         .map_err(|e| Failure::Internal(e.into()))?;
-    remove_if_present(&checkpoint).map_err(|e| internal(e, &checkpoint))?;
     let Finished {
         tally,
         info,
@@ -72,10 +87,10 @@ pub fn run_batched(b: Batched<'_>, out: &Path, ascii: bool) -> Result<(), Failur
         print_convergence(&c);
         results = results.with_convergence(c);
     }
-    let scenario = b.sim.scenario();
+    let scenario = sim.scenario();
     let ctx = Context {
         files: vec![finished],
-        ..Context::new(scenario, b.sim.stems(), b.input.display().to_string())
+        ..Context::new(scenario, sim.stems(), input.display().to_string())
     };
     let ascii = ascii || scenario.output.ascii_rasters;
     simulate::write(&results, out, ascii, &ctx)?;
@@ -222,7 +237,7 @@ pub fn merge(
             let ascii = ascii || sim.scenario().output.ascii_rasters;
             simulate::write(&results, out, ascii, &ctx)?;
         }
-        Err(Failure::BadInput(e) | Failure::Internal(e)) => {
+        Err(e) => {
             let files = results
                 .write(out, ascii)
                 .map_err(|e| Failure::Internal(e.into()))?;
@@ -231,7 +246,7 @@ pub fn merge(
                  give it with --input",
                 files.len() + 1,
                 out.display(),
-                e
+                e.text()
             );
         }
     }

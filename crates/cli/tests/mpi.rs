@@ -1,0 +1,111 @@
+//! `mpirun -np 2 rockfall run …` (cargo feature `mpi`) gives the one-process run's files byte
+//! for byte; a rank's error is reported once, by rank 0. Run with
+//! `cargo test -p rockfall-cli --features mpi --test mpi` on a machine with Open MPI
+//! (`.ci/run` installs it).
+
+#![cfg(feature = "mpi")]
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+mod common;
+
+use common::{json, ok, rockfall, s};
+use std::path::Path;
+use std::process::Command;
+
+/// `mpirun` with `ranks` ranks of the test binary on `args`: (exit code, stdout, stderr).
+fn mpirun(ranks: u32, args: &[&str]) -> Option<(Option<i32>, String, String)> {
+    let out = Command::new("mpirun")
+        .args([
+            "--allow-run-as-root",
+            "--oversubscribe",
+            "-np",
+            &ranks.to_string(),
+        ])
+        .arg(env!("CARGO_BIN_EXE_rockfall"))
+        .args(args)
+        .output();
+    match out {
+        Ok(o) => Some((
+            o.status.code(),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )),
+        // without Open MPI the test cannot run; on CI that is a failure
+        Err(e) if std::env::var_os("CI").is_none() => {
+            eprintln!("skipped: mpirun not found ({e})");
+            None
+        }
+        Err(e) => panic!("mpirun not found on CI: {e}"),
+    }
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    let mut v = json(&dir.join("summary.json"));
+    for k in ["threads", "wall_time_s", "trajectories_per_s"] {
+        v.as_object_mut().unwrap().remove(k).unwrap();
+    }
+    v
+}
+
+#[test]
+fn two_ranks_write_the_one_process_run_byte_for_byte() {
+    let tmp = tempfile::tempdir().unwrap();
+    let site = tmp.path().join("site");
+    ok(rockfall(&["site", "vaujany-site2", "--out", s(&site)]));
+    let scenario = site.join("scenario.toml");
+    let (one, two) = (tmp.path().join("one"), tmp.path().join("two"));
+    let args = |out: &Path| {
+        vec![
+            "run".to_string(),
+            s(&scenario).to_string(),
+            "--out".into(),
+            s(out).to_string(),
+            "--rocks-per-cell".into(),
+            "500".into(),
+            "--threads".into(),
+            "1".into(),
+        ]
+    };
+    let a1 = args(&one);
+    ok(rockfall(&a1.iter().map(String::as_str).collect::<Vec<_>>()));
+    let a2 = args(&two);
+    let Some((code, stdout, stderr)) =
+        mpirun(2, &a2.iter().map(String::as_str).collect::<Vec<_>>())
+    else {
+        return;
+    };
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    assert!(stdout.contains("2 MPI ranks, 500 rocks"), "{stdout}");
+    // rank 0 alone prints the summary
+    assert_eq!(stdout.matches("vaujany-site2:").count(), 1, "{stdout}");
+    let mut compared = 0;
+    for e in std::fs::read_dir(&one).unwrap() {
+        let name = e.unwrap().file_name().into_string().unwrap();
+        if name.ends_with(".tif") || name.ends_with(".csv") {
+            let same =
+                std::fs::read(one.join(&name)).unwrap() == std::fs::read(two.join(&name)).unwrap();
+            assert!(same, "{name} differs");
+            compared += 1;
+        }
+    }
+    assert!(compared >= 15);
+    assert_eq!(summary(&one), summary(&two));
+    assert!(two.join("rockfall.tally").exists());
+}
+
+#[test]
+fn a_bad_input_is_reported_once_by_rank_0_with_exit_2() {
+    let tmp = tempfile::tempdir().unwrap();
+    let missing = tmp.path().join("none.toml");
+    let out = tmp.path().join("o");
+    let Some((code, stdout, stderr)) = mpirun(2, &["run", s(&missing), "--out", s(&out)]) else {
+        return;
+    };
+    assert_eq!(code, Some(2), "{stdout}\n{stderr}");
+    assert_eq!(stderr.matches("none.toml").count(), 1, "{stderr}");
+    assert!(stderr.contains("rank 0"), "{stderr}");
+    let Some((code, _, stderr)) = mpirun(2, &["run", s(&missing), "--partition", "1/2"]) else {
+        return;
+    };
+    assert_eq!(code, Some(2), "{stderr}");
+}
