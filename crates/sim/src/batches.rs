@@ -110,10 +110,11 @@ impl Simulation {
             }
             acc = Some((t, i));
         }
-        let (tally, mut info) = acc.unwrap_or_else(|| {
-            let layout = std::sync::Arc::new(rockfall_results::Layout::of(self.scenario()));
-            (Tally::new(layout), RunInfo::default())
-        });
+        // a share of no rock (more shares than rocks) still records the run's parameters
+        let (tally, mut info) = match acc {
+            Some(done) => done,
+            None => self.run_rocks(&RockSet::default(), label, observer)?,
+        };
         info.threads = self.threads();
         record.complete = true;
         let convergence = record

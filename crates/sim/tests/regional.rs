@@ -130,6 +130,25 @@ fn merged_partitions_equal_the_single_run_bit_for_bit() {
 }
 
 #[test]
+fn more_shares_than_rocks_merge_too() {
+    let mut s = rockfall_sites::build("vaujany-site2").unwrap();
+    s.simulation.rocks_per_cell = 3;
+    let single = sim(&s, 1).run(true, "", &Quiet).unwrap();
+    let parts: Vec<_> = (1..=5)
+        .map(|i| {
+            let sim = sim(&s, 2);
+            let p = Partition { index: i, count: 5 };
+            let f = finish(&sim, RunRecord::new(sim.scenario(), "x").with_partition(p));
+            saved(f, &format!("p{i}"))
+        })
+        .collect();
+    assert_eq!(parts.iter().filter(|p| p.1.tally.rocks() == 0).count(), 2);
+    let merged = share::merge(parts).unwrap();
+    let r = Results::new(&merged.tally.layout().clone(), merged.tally, merged.info);
+    assert_eq!(everything(&r), everything(&single));
+}
+
+#[test]
 fn a_merge_of_different_runs_or_incomplete_shares_is_refused_naming_the_difference() {
     let s = site(40);
     let part = |s: &Scenario, i: u64, n: u64, name: &str| {
