@@ -18,7 +18,8 @@
 //! read when present and written whenever the grid's CRS is known.
 
 use crate::atomic::write_atomic;
-use crate::{Crs, Grid, GridGeometry, RasterError};
+use crate::rows::try_for_each_row;
+use crate::{Crs, Grid, GridGeometry, RasterError, Rows};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -252,21 +253,36 @@ fn parse_values<'a>(
 /// back to the same `f64` (exact round trip); nodata cells as the grid's nodata value, or
 /// −9999 when it has none.
 pub fn write(path: &Path, grid: &Grid<f64>) -> Result<(), RasterError> {
-    let g = grid.geometry();
+    write_rows(path, grid)
+}
+
+/// [`write`] of a raster given row by row: one pass to check the values and count nodata
+/// cells, one to write, one row in memory.
+pub fn write_rows(path: &Path, rows: &impl Rows) -> Result<(), RasterError> {
+    let g = rows.geometry();
     if g.is_empty() {
         return Err(RasterError::Invalid {
             path: path.to_path_buf(),
             message: "cannot write an empty grid".into(),
         });
     }
-    if let Some((_, _, bad)) = grid.iter_valid().find(|(_, _, v)| !v.is_finite()) {
-        return Err(RasterError::Invalid {
-            path: path.to_path_buf(),
-            message: format!("cannot write non-finite value {bad}"),
-        });
-    }
-    let has_nodata = grid.nodata_count() > 0;
-    let nodata = grid.nodata_value().unwrap_or(-9999.0);
+    let mut has_nodata = false;
+    try_for_each_row(rows, |_, cells| {
+        for c in cells {
+            match c {
+                None => has_nodata = true,
+                Some(v) if !v.is_finite() => {
+                    return Err(RasterError::Invalid {
+                        path: path.to_path_buf(),
+                        message: format!("cannot write non-finite value {v}"),
+                    });
+                }
+                Some(_) => {}
+            }
+        }
+        Ok(())
+    })?;
+    let nodata = rows.nodata_value().unwrap_or(-9999.0);
     write_atomic(path, |w| {
         let io = |e| RasterError::io(path, e);
         writeln!(w, "ncols {}", g.ncols).map_err(io)?;
@@ -274,27 +290,26 @@ pub fn write(path: &Path, grid: &Grid<f64>) -> Result<(), RasterError> {
         writeln!(w, "xllcorner {}", g.x_min_m).map_err(io)?;
         writeln!(w, "yllcorner {}", g.y_min_m).map_err(io)?;
         writeln!(w, "cellsize {}", g.cell_size_m).map_err(io)?;
-        if has_nodata || grid.nodata_value().is_some() {
+        if has_nodata || rows.nodata_value().is_some() {
             writeln!(w, "NODATA_value {nodata}").map_err(io)?;
         }
         let mut line = String::with_capacity(g.ncols * 8);
-        for row in 0..g.nrows {
+        try_for_each_row(rows, |_, cells| {
             line.clear();
-            for col in 0..g.ncols {
+            for (col, c) in cells.iter().enumerate() {
                 if col > 0 {
                     line.push(' ');
                 }
-                let v = grid.get(row, col).unwrap_or(nodata);
+                let v = c.unwrap_or(nodata);
                 use std::fmt::Write as _;
                 let _ = write!(line, "{v}");
             }
             line.push('\n');
-            w.write_all(line.as_bytes()).map_err(io)?;
-        }
-        Ok::<(), RasterError>(())
+            w.write_all(line.as_bytes()).map_err(io)
+        })
     })?;
     let prj = prj_path(path);
-    if let Some(wkt) = grid.crs().and_then(Crs::wkt_for_prj) {
+    if let Some(wkt) = rows.crs().and_then(Crs::wkt_for_prj) {
         crate::atomic::write_bytes_atomic(&prj, wkt.as_bytes()).map_err(RasterError::from)?;
     }
     Ok(())
