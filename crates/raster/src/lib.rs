@@ -30,7 +30,7 @@ pub use crs::Crs;
 pub use error::RasterError;
 pub use field::Field;
 pub use grid::{GeometryMismatch, Grid, GridGeometry};
-pub use rows::Rows;
+pub use rows::{RasterView, Rows};
 
 use std::path::Path;
 

@@ -1,7 +1,8 @@
-//! Rasters seen row by row, for writers that never hold a whole grid.
+//! Rasters seen row by row or cell by cell, for code that never needs a whole grid.
 //!
 //! A [`Rows`] is anything that can produce one row of a raster at a time: a [`Grid`], or a
 //! view computed on the fly from sparse data (a run's per-cell statistics, where rocks went).
+//! A [`RasterView`] adds random access to a cell, for maps and statistics over a raster.
 //! The writers ([`crate::write_rows`], [`crate::geotiff::write_rows`],
 //! [`crate::ascii_grid::write_rows`]) read it row by row, more than once when they need to
 //! look at every value before writing (nodata marker, value checks), and keep at most one
@@ -42,6 +43,36 @@ impl Rows for Grid<f64> {
         let (values, valid) = (&self.values()[row * n..][..n], &self.mask()[row * n..][..n]);
         for ((o, &v), &ok) in out.iter_mut().zip(values).zip(valid) {
             *o = ok.then_some(v);
+        }
+    }
+}
+
+/// A raster read cell by cell, wherever its values live: a [`Grid`], or values computed when
+/// asked for.
+pub trait RasterView {
+    /// The grid the raster covers.
+    fn view_geometry(&self) -> GridGeometry;
+
+    /// Value of cell (row, col), `None` when nodata or out of range.
+    fn cell(&self, row: usize, col: usize) -> Option<f64>;
+
+    /// Calls `f(row, col, value)` for every valid cell, row-major (north to south, west to
+    /// east).
+    fn for_each_valid(&self, f: &mut dyn FnMut(usize, usize, f64));
+}
+
+impl RasterView for Grid<f64> {
+    fn view_geometry(&self) -> GridGeometry {
+        *Grid::geometry(self)
+    }
+
+    fn cell(&self, row: usize, col: usize) -> Option<f64> {
+        self.get(row, col)
+    }
+
+    fn for_each_valid(&self, f: &mut dyn FnMut(usize, usize, f64)) {
+        for (row, col, v) in self.iter_valid() {
+            f(row, col, v);
         }
     }
 }
@@ -103,5 +134,9 @@ mod tests {
             ]
         );
         assert_eq!(nodata_count(&grid), 1);
+        let mut valid = Vec::new();
+        grid.for_each_valid(&mut |r, c, v| valid.push((r, c, v)));
+        assert_eq!(valid.len(), 5);
+        assert_eq!((valid[3], grid.cell(1, 1)), ((1, 0, 4.0), None));
     }
 }

@@ -17,8 +17,9 @@
 //!   `summary.json` and the files of the folder ([`html`], written last and atomically).
 //!
 //! Files of an earlier report in the same folder that this run does not write again (a
-//! figure, a GeoJSON file) are removed, so the folder holds one run. Rasters are computed
-//! one at a time, so the report needs little memory beyond one grid.
+//! figure, a GeoJSON file) are removed, so the folder holds one run. The run's rasters are
+//! read as views of its per-cell statistics ([`Layer`]) and the relief is shaded where a map
+//! pixel asks for it, so the report allocates nothing per grid cell.
 
 pub mod content;
 mod error;
@@ -38,7 +39,8 @@ mod sections;
 use std::path::{Path, PathBuf};
 
 use rockfall_forest::Stem;
-use rockfall_raster::Grid;
+use rockfall_raster::{Grid, GridGeometry, RasterView};
+use rockfall_results::RasterCells;
 use rockfall_results::{ForestEffect, Results};
 use rockfall_scenario::Scenario;
 
@@ -93,14 +95,47 @@ impl ReportInput<'_> {
     }
 
     /// The raster called `name`: the run's, or the forest effect's; `None` if neither has it.
-    pub fn raster(&self, name: &str) -> Option<Grid<f64>> {
-        self.results.raster(name).or_else(|| {
+    pub fn raster(&self, name: &str) -> Option<Layer<'_>> {
+        self.results.raster_view(name).map(Layer::Run).or_else(|| {
             let effect = self.forest_effect.into_iter().flat_map(|e| e.rasters());
             effect
                 .into_iter()
                 .find(|(n, _)| *n == name)
-                .map(|(_, g)| g.clone())
+                .map(|(_, g)| Layer::Effect(g))
         })
+    }
+}
+
+/// A raster the report shows: one of the run's, each cell computed from the run's statistics
+/// when read, or a forest-effect difference grid.
+#[derive(Clone, Copy)]
+pub enum Layer<'a> {
+    /// A raster of the run ([`rockfall_results::Results::raster_view`]).
+    Run(RasterCells<'a>),
+    /// A forest-effect difference.
+    Effect(&'a Grid<f64>),
+}
+
+impl RasterView for Layer<'_> {
+    fn view_geometry(&self) -> GridGeometry {
+        match self {
+            Layer::Run(r) => r.view_geometry(),
+            Layer::Effect(g) => g.view_geometry(),
+        }
+    }
+
+    fn cell(&self, row: usize, col: usize) -> Option<f64> {
+        match self {
+            Layer::Run(r) => r.cell(row, col),
+            Layer::Effect(g) => g.cell(row, col),
+        }
+    }
+
+    fn for_each_valid(&self, f: &mut dyn FnMut(usize, usize, f64)) {
+        match self {
+            Layer::Run(r) => r.for_each_valid(f),
+            Layer::Effect(g) => g.for_each_valid(f),
+        }
     }
 }
 

@@ -62,7 +62,7 @@ pub use forest_effect::{
 pub use hist::PERCENTILE_RELATIVE_ERROR;
 pub use parameters::{LegacySolver, LumpedParameters, Parameters, RigidParameters, RunSize};
 pub use profile::ProfileBin;
-pub use results::{Results, RunInfo};
+pub use results::{RasterCells, Results, RunInfo};
 pub use screens::ScreenSet;
 pub use summary::{MeanP95Max, Outcomes, Runout, ScreenSummary, Summary, TimeStats};
 pub use tally::Tally;

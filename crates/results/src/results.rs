@@ -1,6 +1,6 @@
 //! The merged outcome of a run: rasters, summary and trajectories.
 
-use rockfall_raster::{Crs, Grid, GridGeometry, Rows, SampleType};
+use rockfall_raster::{Crs, Grid, GridGeometry, RasterView, Rows, SampleType};
 
 use crate::cells::CellStats;
 use crate::{Layout, Parameters, RockRecord, Tally, TrajectoryRow};
@@ -171,6 +171,14 @@ impl Results {
         Some(self.grid(kind))
     }
 
+    /// The raster called `name`, as [`Results::raster`] gives it, but as a view that computes
+    /// each cell from the per-cell statistics when read: nothing per grid cell is allocated,
+    /// for maps and statistics of huge grids. `None` for an unknown name.
+    pub fn raster_view(&self, name: &str) -> Option<RasterCells<'_>> {
+        let (_, kind) = self.kinds().into_iter().find(|(n, _)| n == name)?;
+        Some(self.rows(kind))
+    }
+
     /// Sample type a raster is written with: `I32` for counts (`F64` should a count exceed
     /// the `i32` range), `F32` for the others.
     pub(crate) fn sample_type(&self, kind: Kind) -> SampleType {
@@ -213,8 +221,8 @@ impl Results {
 
     /// Raster `kind` as rows computed on the fly from the per-cell statistics: what the
     /// writers read, so that no whole-grid buffer is ever made.
-    pub(crate) fn rows(&self, kind: Kind) -> RasterRows<'_> {
-        RasterRows {
+    pub(crate) fn rows(&self, kind: Kind) -> RasterCells<'_> {
+        RasterCells {
             results: self,
             kind,
             rocks: self.rocks(),
@@ -239,15 +247,48 @@ impl Results {
     }
 }
 
-/// One raster of [`Results`] seen row by row ([`Rows`]), each cell computed from the
-/// per-cell statistics when read.
-pub(crate) struct RasterRows<'a> {
+/// One raster of [`Results`] seen row by row ([`Rows`], what the writers read) or cell by cell
+/// ([`RasterView`]), each cell computed from the per-cell statistics when read
+/// ([`Results::raster_view`]).
+#[derive(Clone, Copy)]
+pub struct RasterCells<'a> {
     results: &'a Results,
     kind: Kind,
     rocks: u64,
 }
 
-impl Rows for RasterRows<'_> {
+impl RasterCells<'_> {
+    /// Value of the cell at row-major `index` (inside the grid).
+    fn at(&self, index: usize) -> Option<f64> {
+        let r = self.results;
+        r.cell_value(self.kind, self.rocks, r.tally.cells.get(index))
+    }
+}
+
+impl RasterView for RasterCells<'_> {
+    fn view_geometry(&self) -> GridGeometry {
+        self.results.layout.geometry
+    }
+
+    fn cell(&self, row: usize, col: usize) -> Option<f64> {
+        let g = &self.results.layout.geometry;
+        (row < g.nrows && col < g.ncols)
+            .then(|| self.at(g.index(row, col)))
+            .flatten()
+    }
+
+    fn for_each_valid(&self, f: &mut dyn FnMut(usize, usize, f64)) {
+        rockfall_raster::rows::for_each_row(self, |row, cells| {
+            for (col, c) in cells.iter().enumerate() {
+                if let Some(v) = *c {
+                    f(row, col, v);
+                }
+            }
+        });
+    }
+}
+
+impl Rows for RasterCells<'_> {
     fn geometry(&self) -> GridGeometry {
         self.results.layout.geometry
     }
@@ -262,11 +303,9 @@ impl Rows for RasterRows<'_> {
     }
 
     fn row(&self, row: usize, out: &mut [Option<f64>]) {
-        let r = self.results;
-        let first = row * r.layout.geometry.ncols;
+        let first = row * self.results.layout.geometry.ncols;
         for (col, o) in out.iter_mut().enumerate() {
-            let c = r.tally.cells.get(first + col);
-            *o = r.cell_value(self.kind, self.rocks, c);
+            *o = self.at(first + col);
         }
     }
 }

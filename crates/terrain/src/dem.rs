@@ -87,8 +87,9 @@ impl Dem {
         &self.grid
     }
 
-    /// The height grid, shared (for a [`crate::Lattice`], which reads it in place).
-    pub(crate) fn shared_grid(&self) -> &Arc<Grid<f64>> {
+    /// The height grid, shared: what a [`crate::Lattice`] or a map reads in place instead of
+    /// a copy.
+    pub fn shared_grid(&self) -> &Arc<Grid<f64>> {
         &self.grid
     }
 
