@@ -31,8 +31,10 @@ const DEFAULT_NODATA: f64 = -9999.0;
 /// Relative tolerance for "square pixels".
 const REL_TOL: f64 = 1e-9;
 
-/// Reads a GeoTIFF: single band, f32/f64/i8/i16/i32/u8/u16/u32 samples, strips or tiles, into
-/// a `Grid<f64>`.
+/// Reads a GeoTIFF: single band, f32/f64/i8/i16/i32/u8/u16/u32 samples, strips or tiles,
+/// any compression the `tiff` crate decodes, classic or BigTIFF, into a `Grid<f64>`. Strips
+/// and tiles are decoded one at a time into the grid: beside the grid (9 bytes a cell), only
+/// one chunk is in memory.
 ///
 /// Cells equal to the `GDAL_NODATA` value (compared at the file's sample precision) and
 /// non-finite cells are nodata; the marker is kept as [`Grid::nodata_value`]. The CRS is the
@@ -79,30 +81,44 @@ pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
     values
         .try_reserve_exact(n)
         .map_err(|_| fail(format!("{width} × {height} pixels do not fit in memory")))?;
+    values.resize(n, 0.0);
+    // A file written in one strip decodes as one chunk: allow it the image's size.
     let mut limits = Limits::default();
     let bytes = n.saturating_mul(bits as usize / 8);
     limits.decoding_buffer_size = limits.decoding_buffer_size.max(bytes);
     limits.intermediate_buffer_size = limits.intermediate_buffer_size.max(bytes);
     limits.ifd_value_size = limits.ifd_value_size.max(1 << 26);
-    let image = dec.with_limits(limits).read_image().map_err(bad)?;
-    // Float32 data are compared with the marker rounded to f32, as GDAL does.
-    let mut nd = nodata;
-    match image {
-        DecodingResult::U8(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::U16(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::U32(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::U64(v) => values.extend(v.into_iter().map(|x| x as f64)),
-        DecodingResult::I8(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::I16(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::I32(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::I64(v) => values.extend(v.into_iter().map(|x| x as f64)),
-        DecodingResult::F16(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::F32(v) => {
-            values.extend(v.into_iter().map(f64::from));
-            nd = nodata.map(|x| f64::from(x as f32));
+    let mut dec = dec.with_limits(limits);
+    // Strips or tiles, decoded one at a time straight into their place: no copy of the whole
+    // image in the file's sample type.
+    let (chunk_w, chunk_h) = dec.chunk_dimensions();
+    let (chunk_w, chunk_h) = (chunk_w.max(1) as usize, chunk_h.max(1) as usize);
+    let across = ncols.div_ceil(chunk_w);
+    let chunks = across * nrows.div_ceil(chunk_h);
+    let mut float32 = false;
+    let mut chunk: Vec<f64> = Vec::new();
+    for index in 0..chunks {
+        let index32 = u32::try_from(index).map_err(|_| fail(format!("{chunks} chunks")))?;
+        let (x0, y0) = ((index % across) * chunk_w, (index / across) * chunk_h);
+        let (w, h) = dec.chunk_data_dimensions(index32);
+        let (w, h) = (w as usize, h as usize);
+        float32 |= samples_as_f64(dec.read_chunk(index32).map_err(bad)?, &mut chunk);
+        if chunk.len() != w * h || x0 + w > ncols || y0 + h > nrows {
+            return Err(fail(format!(
+                "chunk {index}: {} samples for {w} × {h} pixels at ({x0}, {y0}) of {width} × {height}",
+                chunk.len()
+            )));
         }
-        DecodingResult::F64(v) => values.extend(v),
+        for (r, line) in chunk.chunks_exact(w).enumerate() {
+            let start = (y0 + r) * ncols + x0;
+            values[start..start + w].copy_from_slice(line);
+        }
     }
+    // Float32 data are compared with the marker rounded to f32, as GDAL does.
+    let nd = match float32 {
+        true => nodata.map(|x| f64::from(x as f32)),
+        false => nodata,
+    };
     let geometry = GridGeometry {
         ncols,
         nrows,
@@ -110,20 +126,42 @@ pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
         y_min_m: y_max - nrows as f64 * cell_size_m,
         cell_size_m,
     };
-    let masked: Vec<usize> = (values.iter().enumerate())
-        .filter(|&(_, &v)| !v.is_finite() || Some(v) == nd)
-        .map(|(i, _)| i)
-        .collect();
     let found = values.len();
     let mut grid = Grid::from_values(geometry, values)
         .ok_or_else(|| fail(format!("{found} samples for {width} × {height} pixels")))?;
-    for i in masked {
-        let (row, col) = geometry.row_col(i);
-        grid.set_nodata(row, col);
+    for i in 0..n {
+        let v = grid.values()[i];
+        if !v.is_finite() || Some(v) == nd {
+            let (row, col) = geometry.row_col(i);
+            grid.set_nodata(row, col);
+        }
     }
     grid.set_nodata_value(nodata);
     grid.set_crs(epsg.map(Crs::from_epsg));
     Ok(grid)
+}
+
+/// The samples of one decoded chunk as `f64` into `out` (cleared first); true when they were
+/// 32-bit floats.
+fn samples_as_f64(image: DecodingResult, out: &mut Vec<f64>) -> bool {
+    out.clear();
+    match image {
+        DecodingResult::U8(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::U16(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::U32(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::U64(v) => out.extend(v.into_iter().map(|x| x as f64)),
+        DecodingResult::I8(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::I16(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::I32(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::I64(v) => out.extend(v.into_iter().map(|x| x as f64)),
+        DecodingResult::F16(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::F32(v) => {
+            out.extend(v.into_iter().map(f64::from));
+            return true;
+        }
+        DecodingResult::F64(v) => out.extend(v),
+    }
+    false
 }
 
 /// A tag's value converted by `f`, `None` when the tag is absent.
