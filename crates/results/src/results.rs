@@ -259,7 +259,7 @@ pub struct RasterCells<'a> {
 
 impl RasterCells<'_> {
     /// Value of the cell at row-major `index` (inside the grid).
-    fn at(&self, index: usize) -> Option<f64> {
+    pub(crate) fn at(&self, index: usize) -> Option<f64> {
         let r = self.results;
         r.cell_value(self.kind, self.rocks, r.tally.cells.get(index))
     }
