@@ -1,10 +1,10 @@
 //! Writes a large synthetic site for memory measurements: `dem.tif` (a slope that flattens
 //! into a plain, with deterministic noise) and `scenario.toml` (constant surface parameters,
 //! two release points near the top of the slope, 1 000 rocks each), so that the rocks reach a
-//! small part of a huge grid.
+//! small part of a huge grid. With `asc` the DEM is written as `dem.asc` (ESRI ASCII grid).
 //!
 //! ```sh
-//! cargo run --release -p rockfall-raster --example big_site -- OUT_DIR NCOLS NROWS [CELL_M]
+//! cargo run --release -p rockfall-raster --example big_site -- OUT_DIR NCOLS NROWS [CELL_M] [tif|asc]
 //! /usr/bin/time -v rockfall run OUT_DIR/scenario.toml --out RUN_DIR   # "Maximum resident set size"
 //! ```
 //!
@@ -38,10 +38,15 @@ fn height_m(d_m: f64, x_m: f64, noise: u64) -> f64 {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let [out, ncols, nrows, rest @ ..] = args.as_slice() else {
-        return Err("usage: big_site OUT_DIR NCOLS NROWS [CELL_M]".into());
+        return Err("usage: big_site OUT_DIR NCOLS NROWS [CELL_M] [tif|asc]".into());
     };
     let (out, ncols, nrows) = (PathBuf::from(out), ncols.parse()?, nrows.parse()?);
     let cell: f64 = rest.first().map_or(Ok(2.0), |c| c.parse())?;
+    let dem = match rest.get(1).map(String::as_str) {
+        None | Some("tif") => "dem.tif",
+        Some("asc") => "dem.asc",
+        Some(other) => return Err(format!("unknown DEM format {other:?}: tif or asc").into()),
+    };
     let geometry = GridGeometry {
         ncols,
         nrows,
@@ -56,7 +61,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(height_m(d, x, (row * ncols + col) as u64))
     })
     .with_crs(Some(Crs::from_epsg(2154)));
-    write_grid(&out.join("dem.tif"), &grid, SampleType::F32)?;
+    write_grid(&out.join(dem), &grid, SampleType::F32)?;
     drop(grid);
     let x_mid = geometry.x_min_m + 0.5 * ncols as f64 * cell;
     let y_top = geometry.y_max_m() - 60.0;
@@ -66,7 +71,7 @@ engine = "lumped"
 seed = 1
 
 [terrain]
-dem = "dem.tif"
+dem = "{dem}"
 soiltype = 4
 rg70_m = 0.05
 rg20_m = 0.1
