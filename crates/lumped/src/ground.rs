@@ -1,6 +1,7 @@
-//! The terrain in the layout the engine's inner loop wants: patch-corner heights in one flat
-//! array, per-cell surface and net parameters in another, and the exact landing of a parabola
-//! on the bilinear surface.
+//! The terrain in the layout the engine's inner loop wants: patch-corner heights read in
+//! place from the DEM's grid ([`Lattice`]), per-cell surface and net parameters stored once
+//! per distinct set ([`crate::cells`]), and the exact landing of a parabola on the bilinear
+//! surface.
 
 use crate::cells::CellMap;
 pub use crate::cells::CellParams;
