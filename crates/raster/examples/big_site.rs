@@ -1,10 +1,12 @@
 //! Writes a large synthetic site for memory measurements: `dem.tif` (a slope that flattens
 //! into a plain, with deterministic noise) and `scenario.toml` (constant surface parameters,
 //! two release points near the top of the slope, 1 000 rocks each), so that the rocks reach a
-//! small part of a huge grid. With `asc` the DEM is written as `dem.asc` (ESRI ASCII grid).
+//! small part of a huge grid. With `asc` the DEM is written as `dem.asc` (ESRI ASCII grid);
+//! with `rasters` the soil type and the three obstacle heights are rasters too (four classes
+//! in bands across the slope), as in a Rockyfor3D folder.
 //!
 //! ```sh
-//! cargo run --release -p rockfall-raster --example big_site -- OUT_DIR NCOLS NROWS [CELL_M] [tif|asc]
+//! cargo run --release -p rockfall-raster --example big_site -- OUT_DIR NCOLS NROWS [CELL_M] [tif|asc] [rasters]
 //! /usr/bin/time -v rockfall run OUT_DIR/scenario.toml --out RUN_DIR   # "Maximum resident set size"
 //! ```
 //!
@@ -38,7 +40,7 @@ fn height_m(d_m: f64, x_m: f64, noise: u64) -> f64 {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let [out, ncols, nrows, rest @ ..] = args.as_slice() else {
-        return Err("usage: big_site OUT_DIR NCOLS NROWS [CELL_M] [tif|asc]".into());
+        return Err("usage: big_site OUT_DIR NCOLS NROWS [CELL_M] [tif|asc] [rasters]".into());
     };
     let (out, ncols, nrows) = (PathBuf::from(out), ncols.parse()?, nrows.parse()?);
     let cell: f64 = rest.first().map_or(Ok(2.0), |c| c.parse())?;
@@ -54,6 +56,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         y_min_m: 6_400_000.0,
         cell_size_m: cell,
     };
+    let rasters = rest.get(2).map(String::as_str) == Some("rasters");
     std::fs::create_dir_all(&out)?;
     let grid = Grid::from_fn(geometry, |row, col| {
         let d = (row as f64 + 0.5) * cell;
@@ -63,6 +66,33 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     .with_crs(Some(Crs::from_epsg(2154)));
     write_grid(&out.join(dem), &grid, SampleType::F32)?;
     drop(grid);
+    // soil type 3 or 4 and obstacle heights in bands 400 m wide across the slope; without
+    // `rasters`, the constants of the second band
+    let band = |col: usize| (col as f64 * cell / 400.0) as usize % 4;
+    let surface = [
+        ("soiltype", [3.0, 4.0, 4.0, 3.0]),
+        ("rg70", [0.1, 0.05, 0.0, 0.2]),
+        ("rg20", [0.2, 0.1, 0.05, 0.3]),
+        ("rg10", [0.3, 0.2, 0.1, 0.5]),
+    ];
+    let mut terrain = String::new();
+    for (name, classes) in surface {
+        let value = if rasters {
+            let file = format!("{name}.tif");
+            let grid = Grid::from_fn(geometry, |_, col| Some(classes[band(col)]))
+                .with_crs(Some(Crs::from_epsg(2154)));
+            write_grid(&out.join(&file), &grid, SampleType::F32)?;
+            format!("\"{file}\"")
+        } else {
+            format!("{}", classes[1])
+        };
+        let key = if name == "soiltype" {
+            name.to_string()
+        } else {
+            format!("{name}_m")
+        };
+        terrain.push_str(&format!("{key} = {value}\n"));
+    }
     let x_mid = geometry.x_min_m + 0.5 * ncols as f64 * cell;
     let y_top = geometry.y_max_m() - 60.0;
     let scenario = format!(
@@ -72,11 +102,7 @@ seed = 1
 
 [terrain]
 dem = "{dem}"
-soiltype = 4
-rg70_m = 0.05
-rg20_m = 0.1
-rg10_m = 0.2
-
+{terrain}
 [rock]
 shape = "sphere"
 diameter_m = 0.8
