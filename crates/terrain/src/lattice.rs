@@ -27,6 +27,8 @@ pub struct Lattice {
     y0: f64,
     /// The DEM's heights at cell centres, row-major from the north, with their mask.
     grid: Arc<Grid<f64>>,
+    /// True when every cell holds data: the mask need not be read.
+    all_valid: bool,
 }
 
 impl Lattice {
@@ -41,6 +43,7 @@ impl Lattice {
             x0: geometry.x_min_m + 0.5 * h,
             y0: geometry.y_min_m + 0.5 * h,
             grid: Arc::clone(dem.shared_grid()),
+            all_valid: dem.grid().nodata_count() == 0,
         }
     }
 
@@ -48,7 +51,11 @@ impl Lattice {
     #[inline]
     fn z(&self, k: usize) -> f64 {
         let z = self.grid.values()[k];
-        if self.grid.mask()[k] { z } else { f64::NAN }
+        if self.all_valid || self.grid.mask()[k] {
+            z
+        } else {
+            f64::NAN
+        }
     }
 
     /// Row-major index (row 0 north) of lattice node (i, j) (row j from the south), inside.
@@ -60,7 +67,10 @@ impl Lattice {
     /// True when cell `index` (row-major, row 0 north) holds data.
     #[inline]
     pub fn is_valid(&self, index: usize) -> bool {
-        self.grid.mask().get(index).copied().unwrap_or(false)
+        match self.all_valid {
+            true => index < self.geometry.len(),
+            false => self.grid.mask().get(index).copied().unwrap_or(false),
+        }
     }
 
     /// The DEM's grid.
