@@ -2,8 +2,9 @@
 //! release cells and points and the screens drawn on top; the site map adds the stems
 //! (where they fit).
 //!
-//! A map pixel shows the hillshade ([`crate::hillshade`], computed for the cells under the
-//! pixel from the DEM, which is shared, not copied) in grey, and over it the raster's
+//! A map pixel shows the hillshade ([`crate::hillshade`]: held for a DEM of up to
+//! [`crate::WHOLE_GRID_MAX_CELLS`] cells, else computed for the cells under the pixel from the DEM,
+//! which is shared, not copied) in grey, and over it the raster's
 //! colour at [`LAYER_OPACITY`] wherever the layer shows a value ([`LayerStyle::shows`]).
 //! Where a pixel covers several cells (large sites), it shows the value of largest magnitude
 //! among them, so that narrow paths and single hot cells stay visible.
@@ -20,7 +21,9 @@ use rockfall_scenario::Scenario;
 
 use crate::ReportError;
 use crate::figure::Figure;
-use crate::hillshade::{Light, SUN_ALTITUDE_DEG, SUN_AZIMUTH_DEG, shade_at_with};
+use crate::hillshade::{
+    Light, SUN_ALTITUDE_DEG, SUN_AZIMUTH_DEG, hillshade, shade_at, shade_at_with,
+};
 use crate::layers::{LAYER_OPACITY, LayerStyle, style};
 use crate::qml::number;
 
@@ -36,6 +39,9 @@ pub struct MapBase {
     /// The DEM (heights, m), for the hillshade.
     dem: Arc<Grid<f64>>,
     light: Light,
+    /// The hillshade of a DEM of up to [`crate::WHOLE_GRID_MAX_CELLS`] cells, computed once
+    /// (a larger one is shaded where a pixel asks: the same shade, no second buffer).
+    shade: Option<Grid<f64>>,
     screens: Vec<MapLine>,
     release_cells_m: Vec<[f64; 2]>,
     release_points_m: Vec<[f64; 2]>,
@@ -111,10 +117,13 @@ impl MapBase {
         label: &str,
     ) -> Result<MapBase, ReportError> {
         let geometry = *dem.geometry();
+        let shade = (geometry.len() <= crate::WHOLE_GRID_MAX_CELLS)
+            .then(|| hillshade(&dem, SUN_AZIMUTH_DEG, SUN_ALTITUDE_DEG));
         Ok(MapBase {
             geometry,
             dem,
             light: Light::new(SUN_AZIMUTH_DEG, SUN_ALTITUDE_DEG),
+            shade,
             screens: overlays.screens,
             release_cells_m: overlays.release_cells_m,
             release_points_m: overlays.release_points_m,
@@ -137,8 +146,13 @@ impl MapBase {
 
     /// The grey of the hillshade at a point; `None` off the DEM.
     pub fn grey(&self, x_m: f64, y_m: f64) -> Option<(u8, u8, u8)> {
-        let shade = |row, col| self.light.shade(&self.dem, row, col);
-        let s = shade_at_with(&self.geometry, shade, x_m, y_m)?;
+        let s = match &self.shade {
+            Some(grid) => shade_at(grid, x_m, y_m)?,
+            None => {
+                let shade = |row, col| self.light.shade(&self.dem, row, col);
+                shade_at_with(&self.geometry, shade, x_m, y_m)?
+            }
+        };
         let g = (SHADE_DARK + (SHADE_LIGHT - SHADE_DARK) * s).round() as u8;
         Some((g, g, g))
     }
