@@ -29,7 +29,6 @@ pub fn read_scenario(path: &Path) -> Result<Scenario, InputError> {
     let mut r = Resolver {
         base,
         file: path.to_path_buf(),
-        cache: BTreeMap::new(),
         sources: BTreeMap::new(),
     };
     let scenario = r.build(file, path)?;
@@ -39,12 +38,12 @@ pub fn read_scenario(path: &Path) -> Result<Scenario, InputError> {
     Ok(scenario)
 }
 
-/// Reads rasters relative to the scenario's folder (each file once) and records where every
-/// parameter came from.
+/// Reads rasters relative to the scenario's folder and records where every parameter came
+/// from. No copy of a raster is kept: a file named for two parameters is read twice, so that
+/// loading never holds a second copy of a (possibly huge) DEM.
 struct Resolver {
     base: PathBuf,
     file: PathBuf,
-    cache: BTreeMap<PathBuf, Grid<f64>>,
     sources: BTreeMap<String, PathBuf>,
 }
 
@@ -56,18 +55,13 @@ impl Resolver {
     fn grid(&mut self, param: &str, p: &str) -> Result<Grid<f64>, InputError> {
         let path = self.path(p);
         self.sources.insert(param.into(), path.clone());
-        if let Some(g) = self.cache.get(&path) {
-            return Ok(g.clone());
-        }
         if !path.is_file() {
             return Err(InputError::Missing {
                 path,
                 what: format!("raster for `{param}` (named in {})", self.file.display()),
             });
         }
-        let g = read_grid(&path)?;
-        self.cache.insert(path, g.clone());
-        Ok(g)
+        Ok(read_grid(&path)?)
     }
 
     fn field(&mut self, param: &str, p: Option<Param>, default: f64) -> Result<Field, InputError> {

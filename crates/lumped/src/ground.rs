@@ -1,29 +1,15 @@
-//! The terrain in the layout the engine's inner loop wants: patch-corner heights in one flat
-//! array, per-cell surface and net parameters in another, and the exact landing of a parabola
-//! on the bilinear surface.
+//! The terrain in the layout the engine's inner loop wants: patch-corner heights read in
+//! place from the DEM's grid ([`Lattice`]), per-cell surface and net parameters stored once
+//! per distinct set ([`crate::cells`]), and the exact landing of a parabola on the bilinear
+//! surface.
 
+use crate::cells::CellMap;
+pub use crate::cells::CellParams;
 use crate::walk::Walk;
 use crate::{G_MS2, LumpedError, V3};
 use rockfall_raster::GridGeometry;
 use rockfall_scenario::Nets;
 use rockfall_terrain::{Lattice, Terrain};
-
-/// Surface and net parameters of one DEM cell.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CellParams {
-    /// Normal coefficient of restitution r_n (from the soil type), dimensionless.
-    pub r_n: f64,
-    /// Obstacle heights of the 70 / 20 / 10 % cover classes, m (seed 000 §2.5).
-    pub moh_m: [f64; 3],
-    /// Cover-weighted mean obstacle height, m (seed 000 eq. 4).
-    pub moh_mean_m: f64,
-    /// Number of nets in the cell (0: none).
-    pub nets: u8,
-    /// Energy one net absorbs, J.
-    pub net_energy_j: f64,
-    /// Net height above the ground, m.
-    pub net_height_m: f64,
-}
 
 /// Height and gradient of the ground at a point.
 pub use rockfall_terrain::SurfacePoint as Surf;
@@ -58,29 +44,19 @@ pub enum FlightEnd {
     Timeout,
 }
 
-/// The engine's terrain.
+/// The engine's terrain: the DEM's surface ([`Lattice`], which shares the DEM's heights) and
+/// the per-cell parameters, each distinct set stored once ([`crate::cells`]).
 #[derive(Debug, Clone)]
 pub struct Ground {
     lattice: Lattice,
-    cells: Vec<CellParams>,
+    cells: CellMap,
 }
 
 impl Ground {
     /// Gathers the DEM, the surface map and the optional nets.
     pub fn new(terrain: &Terrain, nets: Option<&Nets>) -> Result<Ground, LumpedError> {
         let lattice = Lattice::new(&terrain.dem);
-        let geometry = *lattice.geometry();
-        let grid = terrain.dem.grid();
-        let mut cells = Vec::with_capacity(geometry.ncols * geometry.nrows);
-        for row in 0..geometry.nrows {
-            for col in 0..geometry.ncols {
-                let params = match grid.get(row, col) {
-                    None => CellParams::NONE,
-                    Some(_) => cell_params(terrain, nets, row, col)?,
-                };
-                cells.push(params);
-            }
-        }
+        let cells = CellMap::new(terrain, nets, &lattice)?;
         Ok(Ground { lattice, cells })
     }
 
@@ -98,7 +74,7 @@ impl Ground {
     /// Parameters of cell `index` (row-major).
     #[inline]
     pub fn cell(&self, index: usize) -> &CellParams {
-        &self.cells[index]
+        self.cells.get(index)
     }
 
     /// Row-major index of the valid cell containing (x, y).
@@ -260,46 +236,6 @@ const NEIGHBOURS: [(i64, i64); 8] = [
     (0, -1),
     (1, -1),
 ];
-
-impl CellParams {
-    /// Parameters of a nodata cell (never used for a rebound).
-    const NONE: CellParams = CellParams {
-        r_n: 0.0,
-        moh_m: [0.0; 3],
-        moh_mean_m: 0.0,
-        nets: 0,
-        net_energy_j: 0.0,
-        net_height_m: 0.0,
-    };
-}
-
-fn cell_params(
-    terrain: &Terrain,
-    nets: Option<&Nets>,
-    row: usize,
-    col: usize,
-) -> Result<CellParams, LumpedError> {
-    let s = terrain
-        .surface
-        .cell(row, col)
-        .ok_or(LumpedError::MissingSurface { row, col })?;
-    let (count, energy_kj, height_m) = match nets {
-        Some(n) => (
-            n.number.at(row, col).unwrap_or(0.0),
-            n.energy_kj.at(row, col).unwrap_or(0.0),
-            n.height_m.at(row, col).unwrap_or(0.0),
-        ),
-        None => (0.0, 0.0, 0.0),
-    };
-    Ok(CellParams {
-        r_n: s.r_n,
-        moh_m: [s.rg70_m, s.rg20_m, s.rg10_m],
-        moh_mean_m: s.mean_obstacle_height_m(),
-        nets: count.clamp(0.0, 255.0).round() as u8,
-        net_energy_j: energy_kj * 1e3,
-        net_height_m: height_m,
-    })
-}
 
 /// `1 / n_z = √(1 + |∇z|²)` of the bilinear patch `z00 + a u + b v + c u v` (u, v in cells of
 /// `1 / inv_h` m) at its centre, u = v = ½: the vertical height of a centre 1 m from it along

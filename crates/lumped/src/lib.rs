@@ -19,6 +19,7 @@
 //! number of threads.
 
 pub mod body;
+mod cells;
 pub mod contact;
 pub mod forestry;
 pub mod ground;

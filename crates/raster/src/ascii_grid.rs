@@ -18,14 +18,21 @@
 //! read when present and written whenever the grid's CRS is known.
 
 use crate::atomic::write_atomic;
-use crate::{Crs, Grid, GridGeometry, RasterError};
-use std::io::Write;
+use crate::rows::try_for_each_row;
+use crate::{Crs, Grid, GridGeometry, RasterError, Rows};
+use std::io::{BufRead, Write};
 use std::path::{Path, PathBuf};
 
-/// Reads an ESRI ASCII grid and its `.prj` sidecar, if any.
+/// Reads an ESRI ASCII grid and its `.prj` sidecar, if any. The file is read line by line
+/// into the grid: beside the grid (9 bytes a cell) only one line of text is in memory.
 pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
-    let text = std::fs::read_to_string(path).map_err(|e| RasterError::io(path, e))?;
-    let mut grid = parse(&text, path)?;
+    let file = std::fs::File::open(path).map_err(|e| RasterError::io(path, e))?;
+    let size = file.metadata().map_or(0, |m| m.len());
+    let lines = std::io::BufReader::new(file)
+        .lines()
+        .enumerate()
+        .map(|(i, line)| line.map(|l| (i, l)).map_err(|e| RasterError::io(path, e)));
+    let mut grid = parse_lines(lines, usize::try_from(size).unwrap_or(usize::MAX), path)?;
     let prj = [prj_path(path), path.with_extension("PRJ")]
         .into_iter()
         .find(|p| p.is_file());
@@ -58,27 +65,43 @@ struct Header {
 
 /// Parses the text of an ASCII grid; `path` is only used in error messages.
 pub fn parse(text: &str, path: &Path) -> Result<Grid<f64>, RasterError> {
+    parse_lines(text.lines().enumerate().map(Ok), text.len(), path)
+}
+
+/// Parses the numbered lines (0-based) of an ASCII grid of `text_len` bytes.
+fn parse_lines<S: AsRef<str>>(
+    lines: impl Iterator<Item = Result<(usize, S), RasterError>>,
+    text_len: usize,
+    path: &Path,
+) -> Result<Grid<f64>, RasterError> {
     let header_err = |line: usize, message: String| RasterError::Header {
         path: path.to_path_buf(),
         line,
         message,
     };
     let mut h = Header::default();
-    let mut lines = text.lines().enumerate().peekable();
+    let mut lines = lines.peekable();
     let mut last_line = 0;
     // Header: lines whose first token is a key (anything starting with a letter that is
     // not a number such as "nan" or "inf").
-    while let Some(&(i, line)) = lines.peek() {
+    loop {
+        // a header line is blank or starts with a key; the first other line is data
+        let header = match lines.peek() {
+            None => false,
+            Some(Err(_)) => true,
+            Some(Ok((_, line))) => line.as_ref().split_whitespace().next().is_none_or(|key| {
+                key.starts_with(|c: char| c.is_ascii_alphabetic()) && key.parse::<f64>().is_err()
+            }),
+        };
+        let Some(item) = header.then(|| lines.next()).flatten() else {
+            break;
+        };
+        let (i, line) = item?;
         let line_no = i + 1;
-        let mut tokens = line.split_whitespace();
+        let mut tokens = line.as_ref().split_whitespace();
         let Some(key) = tokens.next() else {
-            lines.next();
             continue;
         };
-        if !key.starts_with(|c: char| c.is_ascii_alphabetic()) || key.parse::<f64>().is_ok() {
-            break;
-        }
-        lines.next();
         last_line = line_no;
         let value = tokens
             .next()
@@ -124,11 +147,15 @@ pub fn parse(text: &str, path: &Path) -> Result<Grid<f64>, RasterError> {
         }
     }
     let geometry = header_geometry(&h, last_line, &header_err)?;
-    let values = parse_values(&mut lines, text.len(), &geometry, h.nodata, path)?;
-    let mut grid = Grid::from_options(geometry, values).ok_or_else(|| RasterError::Invalid {
+    let (values, valid) = parse_values(&mut lines, text_len, &geometry, h.nodata, path)?;
+    let mut grid = Grid::from_values(geometry, values).ok_or_else(|| RasterError::Invalid {
         path: path.to_path_buf(),
         message: "internal: value count".into(),
     })?;
+    for (i, _) in valid.iter().enumerate().filter(|(_, ok)| !**ok) {
+        let (row, col) = geometry.row_col(i);
+        grid.set_nodata(row, col);
+    }
     grid.set_nodata_value(h.nodata);
     Ok(grid)
 }
@@ -181,19 +208,23 @@ fn header_geometry(
     })
 }
 
-fn parse_values<'a>(
-    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+/// The values (nodata cells hold 0) and the validity of every cell, row-major.
+fn parse_values<S: AsRef<str>>(
+    lines: &mut impl Iterator<Item = Result<(usize, S), RasterError>>,
     text_len: usize,
     geometry: &GridGeometry,
     nodata: Option<f64>,
     path: &Path,
-) -> Result<Vec<Option<f64>>, RasterError> {
+) -> Result<(Vec<f64>, Vec<bool>), RasterError> {
     let expected = geometry.len();
     // Reserve by what the text can hold (a value takes at least two bytes), so that a header
     // promising more cells than the file has cannot trigger a huge allocation.
     let mut values = Vec::with_capacity(expected.min(text_len / 2 + 1));
+    let mut valid = Vec::with_capacity(expected.min(text_len / 2 + 1));
     let mut last_line = 0;
-    for (i, line) in lines {
+    for item in lines {
+        let (i, line) = item?;
+        let line = line.as_ref();
         let line_no = i + 1;
         for token in line.split_whitespace() {
             let n = values.len();
@@ -226,7 +257,9 @@ fn parse_values<'a>(
             if !v.is_finite() {
                 return Err(value_err(format!("`{token}` is not a finite number")));
             }
-            values.push(if Some(v) == nodata { None } else { Some(v) });
+            let ok = Some(v) != nodata;
+            values.push(if ok { v } else { 0.0 });
+            valid.push(ok);
         }
         if !line.trim().is_empty() {
             last_line = line_no;
@@ -244,7 +277,7 @@ fn parse_values<'a>(
             ),
         });
     }
-    Ok(values)
+    Ok((values, valid))
 }
 
 /// Writes an ESRI ASCII grid (`xllcorner`/`yllcorner` form) atomically, with a `.prj`
@@ -252,21 +285,36 @@ fn parse_values<'a>(
 /// back to the same `f64` (exact round trip); nodata cells as the grid's nodata value, or
 /// −9999 when it has none.
 pub fn write(path: &Path, grid: &Grid<f64>) -> Result<(), RasterError> {
-    let g = grid.geometry();
+    write_rows(path, grid)
+}
+
+/// [`write`] of a raster given row by row: one pass to check the values and count nodata
+/// cells, one to write, one row in memory.
+pub fn write_rows(path: &Path, rows: &impl Rows) -> Result<(), RasterError> {
+    let g = rows.geometry();
     if g.is_empty() {
         return Err(RasterError::Invalid {
             path: path.to_path_buf(),
             message: "cannot write an empty grid".into(),
         });
     }
-    if let Some((_, _, bad)) = grid.iter_valid().find(|(_, _, v)| !v.is_finite()) {
-        return Err(RasterError::Invalid {
-            path: path.to_path_buf(),
-            message: format!("cannot write non-finite value {bad}"),
-        });
-    }
-    let has_nodata = grid.nodata_count() > 0;
-    let nodata = grid.nodata_value().unwrap_or(-9999.0);
+    let mut has_nodata = false;
+    try_for_each_row(rows, |_, cells| {
+        for c in cells {
+            match c {
+                None => has_nodata = true,
+                Some(v) if !v.is_finite() => {
+                    return Err(RasterError::Invalid {
+                        path: path.to_path_buf(),
+                        message: format!("cannot write non-finite value {v}"),
+                    });
+                }
+                Some(_) => {}
+            }
+        }
+        Ok(())
+    })?;
+    let nodata = rows.nodata_value().unwrap_or(-9999.0);
     write_atomic(path, |w| {
         let io = |e| RasterError::io(path, e);
         writeln!(w, "ncols {}", g.ncols).map_err(io)?;
@@ -274,27 +322,26 @@ pub fn write(path: &Path, grid: &Grid<f64>) -> Result<(), RasterError> {
         writeln!(w, "xllcorner {}", g.x_min_m).map_err(io)?;
         writeln!(w, "yllcorner {}", g.y_min_m).map_err(io)?;
         writeln!(w, "cellsize {}", g.cell_size_m).map_err(io)?;
-        if has_nodata || grid.nodata_value().is_some() {
+        if has_nodata || rows.nodata_value().is_some() {
             writeln!(w, "NODATA_value {nodata}").map_err(io)?;
         }
         let mut line = String::with_capacity(g.ncols * 8);
-        for row in 0..g.nrows {
+        try_for_each_row(rows, |_, cells| {
             line.clear();
-            for col in 0..g.ncols {
+            for (col, c) in cells.iter().enumerate() {
                 if col > 0 {
                     line.push(' ');
                 }
-                let v = grid.get(row, col).unwrap_or(nodata);
+                let v = c.unwrap_or(nodata);
                 use std::fmt::Write as _;
                 let _ = write!(line, "{v}");
             }
             line.push('\n');
-            w.write_all(line.as_bytes()).map_err(io)?;
-        }
-        Ok::<(), RasterError>(())
+            w.write_all(line.as_bytes()).map_err(io)
+        })
     })?;
     let prj = prj_path(path);
-    if let Some(wkt) = grid.crs().and_then(Crs::wkt_for_prj) {
+    if let Some(wkt) = rows.crs().and_then(Crs::wkt_for_prj) {
         crate::atomic::write_bytes_atomic(&prj, wkt.as_bytes()).map_err(RasterError::from)?;
     }
     Ok(())
@@ -339,8 +386,29 @@ mod tests {
         assert_eq!(g.nodata_value(), Some(-9999.0));
     }
 
+    /// The error of parsing `text`, which reading it from a file line by line must give too.
     fn err(text: &str) -> String {
-        parse(text, p()).unwrap_err().to_string()
+        let from_text = parse(text, p()).unwrap_err().to_string();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("dem.asc");
+        std::fs::write(&path, text).unwrap();
+        let from_file = read(&path).unwrap_err().to_string();
+        let full = path.to_str().unwrap();
+        assert_eq!(from_file.replace(full, "dem.asc"), from_text);
+        from_text
+    }
+
+    #[test]
+    fn reading_a_file_line_by_line_equals_parsing_its_text() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("dem.asc");
+        for text in [
+            "ncols 3\nnrows 2\nxllcorner 1\nyllcorner 2\ncellsize 2\nNODATA_value -1\n1 -1 3\n4 5 6\n",
+            "ncols 2\r\nnrows 2\r\n\r\nxllcenter 1\r\nyllcenter 2\r\ncellsize 2\r\n1 2\r\n\r\n3 4",
+        ] {
+            std::fs::write(&path, text).unwrap();
+            assert_eq!(read(&path).unwrap(), parse(text, p()).unwrap(), "{text:?}");
+        }
     }
 
     const HEAD: &str = "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n";

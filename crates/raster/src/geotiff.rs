@@ -14,10 +14,11 @@ use tiff::TiffError;
 use tiff::decoder::ifd::Value;
 use tiff::decoder::{Decoder, DecodingResult, Limits};
 use tiff::encoder::colortype::{ColorType, Gray32Float, Gray64Float, GrayI32};
-use tiff::encoder::{Compression, DeflateLevel, TiffEncoder, TiffKind, TiffValue};
-use tiff::tags::Tag;
+use tiff::encoder::compression::{CompressionAlgorithm, Deflate, DeflateLevel};
+use tiff::encoder::{Rational, TiffEncoder, TiffKind, TiffKindBig, TiffKindStandard, TiffValue};
+use tiff::tags::{CompressionMethod, Predictor, ResolutionUnit, Tag};
 
-use crate::{Crs, Grid, GridGeometry, RasterError, SampleType};
+use crate::{Crs, Grid, GridGeometry, RasterError, Rows, SampleType};
 
 const GT_MODEL_TYPE: u16 = 1024;
 const GT_RASTER_TYPE: u16 = 1025;
@@ -30,8 +31,10 @@ const DEFAULT_NODATA: f64 = -9999.0;
 /// Relative tolerance for "square pixels".
 const REL_TOL: f64 = 1e-9;
 
-/// Reads a GeoTIFF: single band, f32/f64/i8/i16/i32/u8/u16/u32 samples, strips or tiles, into
-/// a `Grid<f64>`.
+/// Reads a GeoTIFF: single band, f32/f64/i8/i16/i32/u8/u16/u32 samples, strips or tiles,
+/// any compression the `tiff` crate decodes, classic or BigTIFF, into a `Grid<f64>`. Strips
+/// and tiles are decoded one at a time into the grid: beside the grid (9 bytes a cell), only
+/// one chunk is in memory.
 ///
 /// Cells equal to the `GDAL_NODATA` value (compared at the file's sample precision) and
 /// non-finite cells are nodata; the marker is kept as [`Grid::nodata_value`]. The CRS is the
@@ -78,30 +81,44 @@ pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
     values
         .try_reserve_exact(n)
         .map_err(|_| fail(format!("{width} × {height} pixels do not fit in memory")))?;
+    values.resize(n, 0.0);
+    // A file written in one strip decodes as one chunk: allow it the image's size.
     let mut limits = Limits::default();
     let bytes = n.saturating_mul(bits as usize / 8);
     limits.decoding_buffer_size = limits.decoding_buffer_size.max(bytes);
     limits.intermediate_buffer_size = limits.intermediate_buffer_size.max(bytes);
     limits.ifd_value_size = limits.ifd_value_size.max(1 << 26);
-    let image = dec.with_limits(limits).read_image().map_err(bad)?;
-    // Float32 data are compared with the marker rounded to f32, as GDAL does.
-    let mut nd = nodata;
-    match image {
-        DecodingResult::U8(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::U16(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::U32(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::U64(v) => values.extend(v.into_iter().map(|x| x as f64)),
-        DecodingResult::I8(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::I16(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::I32(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::I64(v) => values.extend(v.into_iter().map(|x| x as f64)),
-        DecodingResult::F16(v) => values.extend(v.into_iter().map(f64::from)),
-        DecodingResult::F32(v) => {
-            values.extend(v.into_iter().map(f64::from));
-            nd = nodata.map(|x| f64::from(x as f32));
+    let mut dec = dec.with_limits(limits);
+    // Strips or tiles, decoded one at a time straight into their place: no copy of the whole
+    // image in the file's sample type.
+    let (chunk_w, chunk_h) = dec.chunk_dimensions();
+    let (chunk_w, chunk_h) = (chunk_w.max(1) as usize, chunk_h.max(1) as usize);
+    let across = ncols.div_ceil(chunk_w);
+    let chunks = across * nrows.div_ceil(chunk_h);
+    let mut float32 = false;
+    let mut chunk: Vec<f64> = Vec::new();
+    for index in 0..chunks {
+        let index32 = u32::try_from(index).map_err(|_| fail(format!("{chunks} chunks")))?;
+        let (x0, y0) = ((index % across) * chunk_w, (index / across) * chunk_h);
+        let (w, h) = dec.chunk_data_dimensions(index32);
+        let (w, h) = (w as usize, h as usize);
+        float32 |= samples_as_f64(dec.read_chunk(index32).map_err(bad)?, &mut chunk);
+        if chunk.len() != w * h || x0 + w > ncols || y0 + h > nrows {
+            return Err(fail(format!(
+                "chunk {index}: {} samples for {w} × {h} pixels at ({x0}, {y0}) of {width} × {height}",
+                chunk.len()
+            )));
         }
-        DecodingResult::F64(v) => values.extend(v),
+        for (r, line) in chunk.chunks_exact(w).enumerate() {
+            let start = (y0 + r) * ncols + x0;
+            values[start..start + w].copy_from_slice(line);
+        }
     }
+    // Float32 data are compared with the marker rounded to f32, as GDAL does.
+    let nd = match float32 {
+        true => nodata.map(|x| f64::from(x as f32)),
+        false => nodata,
+    };
     let geometry = GridGeometry {
         ncols,
         nrows,
@@ -109,20 +126,42 @@ pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
         y_min_m: y_max - nrows as f64 * cell_size_m,
         cell_size_m,
     };
-    let masked: Vec<usize> = (values.iter().enumerate())
-        .filter(|&(_, &v)| !v.is_finite() || Some(v) == nd)
-        .map(|(i, _)| i)
-        .collect();
     let found = values.len();
     let mut grid = Grid::from_values(geometry, values)
         .ok_or_else(|| fail(format!("{found} samples for {width} × {height} pixels")))?;
-    for i in masked {
-        let (row, col) = geometry.row_col(i);
-        grid.set_nodata(row, col);
+    for i in 0..n {
+        let v = grid.values()[i];
+        if !v.is_finite() || Some(v) == nd {
+            let (row, col) = geometry.row_col(i);
+            grid.set_nodata(row, col);
+        }
     }
     grid.set_nodata_value(nodata);
     grid.set_crs(epsg.map(Crs::from_epsg));
     Ok(grid)
+}
+
+/// The samples of one decoded chunk as `f64` into `out` (cleared first); true when they were
+/// 32-bit floats.
+fn samples_as_f64(image: DecodingResult, out: &mut Vec<f64>) -> bool {
+    out.clear();
+    match image {
+        DecodingResult::U8(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::U16(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::U32(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::U64(v) => out.extend(v.into_iter().map(|x| x as f64)),
+        DecodingResult::I8(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::I16(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::I32(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::I64(v) => out.extend(v.into_iter().map(|x| x as f64)),
+        DecodingResult::F16(v) => out.extend(v.into_iter().map(f64::from)),
+        DecodingResult::F32(v) => {
+            out.extend(v.into_iter().map(f64::from));
+            return true;
+        }
+        DecodingResult::F64(v) => out.extend(v),
+    }
+    false
 }
 
 /// A tag's value converted by `f`, `None` when the tag is absent.
@@ -188,11 +227,19 @@ fn georef(
 /// Empty grids, non-finite valid cells and values the sample type cannot hold are
 /// [`RasterError::Invalid`].
 pub fn write(path: &Path, grid: &Grid<f64>, sample: SampleType) -> Result<(), RasterError> {
+    write_rows(path, grid, sample)
+}
+
+/// [`write`] of a raster given row by row, byte for byte the file [`write`] makes of the same
+/// cells: one pass over the rows to choose the nodata marker, one to encode, strip by strip
+/// (Deflate, the strip height the `tiff` crate picks: ≈ 1 MB of samples), so that at most one
+/// strip is in memory.
+pub fn write_rows(path: &Path, rows: &impl Rows, sample: SampleType) -> Result<(), RasterError> {
     let invalid = |message: String| RasterError::Invalid {
         path: path.to_path_buf(),
         message,
     };
-    let g = grid.geometry();
+    let g = rows.geometry();
     let (Ok(width @ 1..), Ok(height @ 1..)) = (u32::try_from(g.ncols), u32::try_from(g.nrows))
     else {
         return Err(invalid(format!(
@@ -207,12 +254,8 @@ pub fn write(path: &Path, grid: &Grid<f64>, sample: SampleType) -> Result<(), Ra
             "bad origin ({x}, {y}) or cell size {cell}"
         )));
     }
-    let nodata = match grid.nodata_count() {
-        0 => None,
-        _ => Some(choose_nodata(grid, sample).ok_or_else(|| {
-            invalid("every candidate nodata marker is also a valid cell value".into())
-        })?),
-    };
+    let nodata = choose_nodata(rows, sample)
+        .map_err(|()| invalid("every candidate nodata marker is also a valid cell value".into()))?;
     let nd = nodata.unwrap_or(DEFAULT_NODATA);
     let bad_cell = |(i, v): (usize, f64)| {
         let (row, col) = g.row_col(i);
@@ -224,71 +267,179 @@ pub fn write(path: &Path, grid: &Grid<f64>, sample: SampleType) -> Result<(), Ra
         size: (width, height),
         scale: [cell, cell, 0.0],
         tiepoint: [0.0, 0.0, 0.0, g.x_min_m, g.y_max_m(), 0.0],
-        keys: geo_keys(grid.crs()),
+        keys: geo_keys(rows.crs()),
         nodata: nodata.map(|v| format_nodata(v, sample)),
     };
+    let fail = |e: Failure| match e {
+        Failure::Cell(c) => bad_cell(c),
+        Failure::Tiff(e) => tiff_error(path, e),
+    };
     match sample {
-        SampleType::F64 => {
-            let data = convert(grid, nd, f64::is_finite, |v| v);
-            save::<Gray64Float>(path, &data.map_err(bad_cell)?, &tags)
-        }
-        SampleType::F32 => {
-            let data = convert(grid, nd, |v| (v as f32).is_finite(), |v| v as f32);
-            save::<Gray32Float>(path, &data.map_err(bad_cell)?, &tags)
-        }
-        SampleType::I32 => {
-            let data = convert(grid, nd, |v| fits_i32(v.round()), |v| v.round() as i32);
-            save::<GrayI32>(path, &data.map_err(bad_cell)?, &tags)
-        }
+        SampleType::F64 => save::<Gray64Float>(path, rows, &tags, |v| {
+            cell_sample(v, nd, f64::is_finite, |v| v)
+        }),
+        SampleType::F32 => save::<Gray32Float>(path, rows, &tags, |v| {
+            cell_sample(v, nd, |v| (v as f32).is_finite(), |v| v as f32)
+        }),
+        SampleType::I32 => save::<GrayI32>(path, rows, &tags, |v| {
+            cell_sample(v, nd, |v| fits_i32(v.round()), |v| v.round() as i32)
+        }),
+    }
+    .map_err(fail)
+}
+
+/// Why encoding stopped: a cell the sample type cannot hold (index, value), or the encoder.
+enum Failure {
+    Cell((usize, f64)),
+    Tiff(TiffError),
+}
+
+impl From<TiffError> for Failure {
+    fn from(e: TiffError) -> Self {
+        Failure::Tiff(e)
     }
 }
 
-/// Encodes `data` with `tags` through [`crate::atomic::write_atomic`]; BigTIFF above 2 GiB.
-fn save<C: ColorType>(path: &Path, data: &[C::Inner], tags: &GeoTags) -> Result<(), RasterError>
-where
-    [C::Inner]: TiffValue,
-{
-    let big = std::mem::size_of_val(data) > 1 << 31;
-    crate::atomic::write_atomic(path, |w| {
-        let result = if big {
-            TiffEncoder::new_big(w).and_then(|e| encode::<_, _, C>(e, data, tags))
-        } else {
-            TiffEncoder::new(w).and_then(|e| encode::<_, _, C>(e, data, tags))
-        };
-        result.map_err(|e| match e {
-            TiffError::IoError(source) => RasterError::io(path, source),
-            e => RasterError::Tiff {
-                path: path.to_path_buf(),
-                message: format!("cannot encode the TIFF: {e}"),
-            },
-        })
-    })
+impl From<std::num::TryFromIntError> for Failure {
+    fn from(e: std::num::TryFromIntError) -> Self {
+        Failure::Tiff(e.into())
+    }
 }
 
-/// Valid cells through `to` (when `fits`), nodata cells as `to(nodata)`; fails with the
-/// (index, value) of the first valid cell that does not fit.
-fn convert<T>(
-    grid: &Grid<f64>,
+impl From<std::io::Error> for Failure {
+    fn from(e: std::io::Error) -> Self {
+        Failure::Tiff(TiffError::IoError(e))
+    }
+}
+
+impl From<(std::path::PathBuf, std::io::Error)> for Failure {
+    fn from((_, e): (std::path::PathBuf, std::io::Error)) -> Self {
+        Failure::Tiff(TiffError::IoError(e))
+    }
+}
+
+/// An encoder error as a [`RasterError`] naming `path`.
+fn tiff_error(path: &Path, e: TiffError) -> RasterError {
+    match e {
+        TiffError::IoError(source) => RasterError::io(path, source),
+        e => RasterError::Tiff {
+            path: path.to_path_buf(),
+            message: format!("cannot encode the TIFF: {e}"),
+        },
+    }
+}
+
+/// A valid cell through `to` (when `fits`, else `Err(value)`), a nodata cell as `to(nodata)`.
+fn cell_sample<T>(
+    cell: Option<f64>,
     nodata: f64,
     fits: impl Fn(f64) -> bool,
     to: impl Fn(f64) -> T,
-) -> Result<Vec<T>, (usize, f64)> {
-    (grid.values().iter().zip(grid.mask()).enumerate())
-        .map(|(i, (&v, &valid))| match valid {
-            false => Ok(to(nodata)),
-            true if fits(v) => Ok(to(v)),
-            true => Err((i, v)),
-        })
-        .collect()
+) -> Result<T, f64> {
+    match cell {
+        None => Ok(to(nodata)),
+        Some(v) if fits(v) => Ok(to(v)),
+        Some(v) => Err(v),
+    }
+}
+
+/// Encodes the rows with `tags` through [`crate::atomic::write_atomic`], each cell through
+/// `sample`; BigTIFF when the raw samples exceed 2 GiB.
+fn save<C: ColorType>(
+    path: &Path,
+    rows: &impl Rows,
+    tags: &GeoTags,
+    sample: impl Fn(Option<f64>) -> Result<C::Inner, f64>,
+) -> Result<(), Failure>
+where
+    [C::Inner]: TiffValue,
+{
+    let g = rows.geometry();
+    let raw_bytes = g.len() as u64 * u64::from(<C::Inner as TiffValue>::BYTE_LEN);
+    let big = raw_bytes > 1 << 31;
+    crate::atomic::write_atomic(path, |w| {
+        if big {
+            encode::<_, TiffKindBig, C>(TiffEncoder::new_big(w)?, rows, tags, &sample)
+        } else {
+            encode::<_, TiffKindStandard, C>(TiffEncoder::new(w)?, rows, tags, &sample)
+        }
+    })
+}
+
+/// Lowest-level writing of one image: the tags `tiff`'s `ImageEncoder` writes, in its order,
+/// then ours, then the strips — each compressed here (Deflate, as `ImageEncoder` would) and
+/// written as raw bytes — then the strip tables. The result is byte for byte what
+/// `ImageEncoder::write_data` writes for the whole image at once (tested), without the whole
+/// image in memory.
+fn encode<W: Write + Seek, K: TiffKind, C: ColorType>(
+    mut encoder: TiffEncoder<W, K>,
+    rows: &impl Rows,
+    tags: &GeoTags,
+    sample: &impl Fn(Option<f64>) -> Result<C::Inner, f64>,
+) -> Result<(), Failure>
+where
+    [C::Inner]: TiffValue,
+{
+    let (width, height) = tags.size;
+    let ncols = width as usize;
+    let row_bytes = u64::from(width) * u64::from(<C::Inner as TiffValue>::BYTE_LEN);
+    // ImageEncoder's choice for every compression but PackBits
+    let rows_per_strip = 1_000_000_u64.div_ceil(row_bytes);
+    let mut dir = encoder.image_directory()?;
+    dir.write_tag(Tag::ImageWidth, width)?;
+    dir.write_tag(Tag::ImageLength, height)?;
+    dir.write_tag(Tag::Compression, CompressionMethod::Deflate.to_u16())?;
+    dir.write_tag(Tag::Predictor, Predictor::None.to_u16())?;
+    dir.write_tag(Tag::PhotometricInterpretation, C::TIFF_VALUE.to_u16())?;
+    dir.write_tag(Tag::RowsPerStrip, u32::try_from(rows_per_strip)?)?;
+    dir.write_tag(Tag::SamplesPerPixel, 1_u16)?;
+    dir.write_tag(Tag::XResolution, Rational { n: 1, d: 1 })?;
+    dir.write_tag(Tag::YResolution, Rational { n: 1, d: 1 })?;
+    dir.write_tag(Tag::ResolutionUnit, ResolutionUnit::None)?;
+    dir.write_tag(Tag::ModelPixelScaleTag, &tags.scale[..])?;
+    dir.write_tag(Tag::ModelTiepointTag, &tags.tiepoint[..])?;
+    if !tags.keys.is_empty() {
+        dir.write_tag(Tag::GeoKeyDirectoryTag, &tags.keys[..])?;
+    }
+    if let Some(nodata) = &tags.nodata {
+        dir.write_tag(Tag::GdalNodata, nodata.as_str())?;
+    }
+    let (mut offsets, mut counts) = (Vec::<K::OffsetType>::new(), Vec::<K::OffsetType>::new());
+    let rows_per_strip = rows_per_strip as usize;
+    let mut strip: Vec<C::Inner> = Vec::with_capacity(rows_per_strip.min(height as usize) * ncols);
+    let mut packed = Vec::new();
+    let mut cells = vec![None; ncols];
+    for first in (0..height as usize).step_by(rows_per_strip) {
+        strip.clear();
+        for row in first..(first + rows_per_strip).min(height as usize) {
+            rows.row(row, &mut cells);
+            for (col, &c) in cells.iter().enumerate() {
+                strip.push(sample(c).map_err(|v| Failure::Cell((row * ncols + col, v)))?);
+            }
+        }
+        packed.clear();
+        let mut deflate = Deflate::with_level(DeflateLevel::Balanced);
+        let bytes = deflate.write_to(&mut packed, &strip[..].data())?;
+        offsets.push(K::convert_offset(dir.write_data(&packed[..])?)?);
+        counts.push(K::convert_offset(bytes)?);
+    }
+    dir.write_tag(Tag::BitsPerSample, C::BITS_PER_SAMPLE)?;
+    let formats: Vec<u16> = C::SAMPLE_FORMAT.iter().map(|f| f.to_u16()).collect();
+    dir.write_tag(Tag::SampleFormat, &formats[..])?;
+    dir.write_tag(Tag::StripOffsets, K::convert_slice(&offsets))?;
+    dir.write_tag(Tag::StripByteCounts, K::convert_slice(&counts))?;
+    dir.finish()?;
+    Ok(())
 }
 
 fn fits_i32(v: f64) -> bool {
     v >= f64::from(i32::MIN) && v <= f64::from(i32::MAX)
 }
 
-/// The nodata marker: the grid's own, else −9999, else the type's lowest value — the first the
-/// sample type can store that no valid cell (as stored) equals. NaN is kept for float types.
-fn choose_nodata(grid: &Grid<f64>, sample: SampleType) -> Option<f64> {
+/// The nodata marker, `Ok(None)` when every cell is valid: the grid's own, else −9999, else
+/// the type's lowest value — the first the sample type can store that no valid cell (as
+/// stored) equals; `Err` when each is taken. NaN is kept for float types.
+fn choose_nodata(rows: &impl Rows, sample: SampleType) -> Result<Option<f64>, ()> {
     let stored = |v: f64| match sample {
         SampleType::F64 => v,
         SampleType::F32 => f64::from(v as f32),
@@ -304,12 +455,35 @@ fn choose_nodata(grid: &Grid<f64>, sample: SampleType) -> Option<f64> {
         SampleType::F32 => f64::from(f32::MIN),
         SampleType::I32 => f64::from(i32::MIN),
     };
-    [grid.nodata_value(), Some(DEFAULT_NODATA), Some(lowest)]
+    let candidates: Vec<f64> = [rows.nodata_value(), Some(DEFAULT_NODATA), Some(lowest)]
         .into_iter()
         .flatten()
         .filter(|&v| storable(v))
         .map(stored)
-        .find(|&nd| nd.is_nan() || !grid.iter_valid().any(|(_, _, v)| stored(v) == nd))
+        .collect();
+    // one pass: is there a nodata cell, and which candidates does a valid cell take?
+    let mut taken = vec![false; candidates.len()];
+    let mut any_nodata = false;
+    crate::rows::for_each_row(rows, |_, cells| {
+        for c in cells {
+            match c {
+                None => any_nodata = true,
+                Some(v) => {
+                    let v = stored(*v);
+                    for (t, &nd) in taken.iter_mut().zip(&candidates) {
+                        *t |= v == nd;
+                    }
+                }
+            }
+        }
+    });
+    if !any_nodata {
+        return Ok(None);
+    }
+    (candidates.iter().zip(&taken))
+        .find(|&(nd, &t)| nd.is_nan() || !t)
+        .map(|(&nd, _)| Some(nd))
+        .ok_or(())
 }
 
 /// `GDAL_NODATA` text: integers without a fraction, others with enough digits to round-trip.
@@ -364,32 +538,46 @@ struct GeoTags {
     nodata: Option<String>,
 }
 
-fn encode<W: Write + Seek, K: TiffKind, C: ColorType>(
-    encoder: TiffEncoder<W, K>,
-    data: &[C::Inner],
-    tags: &GeoTags,
-) -> Result<(), TiffError>
-where
-    [C::Inner]: TiffValue,
-{
-    let mut encoder = encoder.with_compression(Compression::Deflate(DeflateLevel::Balanced));
-    let mut image = encoder.new_image::<C>(tags.size.0, tags.size.1)?;
-    let dir = image.encoder();
-    dir.write_tag(Tag::ModelPixelScaleTag, &tags.scale[..])?;
-    dir.write_tag(Tag::ModelTiepointTag, &tags.tiepoint[..])?;
-    if !tags.keys.is_empty() {
-        dir.write_tag(Tag::GeoKeyDirectoryTag, &tags.keys[..])?;
-    }
-    if let Some(nodata) = &tags.nodata {
-        dir.write_tag(Tag::GdalNodata, nodata.as_str())?;
-    }
-    image.write_data(data)
-}
+/// The whole-grid writer the strip-by-strip one replaced, the reference of a test.
+#[cfg(test)]
+mod whole_grid;
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use tiff::encoder::colortype::{Gray8, Gray16, GrayI16, RGB8};
+
+    #[test]
+    fn strip_by_strip_writing_gives_the_bytes_of_the_whole_grid_writer() {
+        let dir = tempfile::tempdir().unwrap();
+        // odd sizes; 2 999 f32 columns make strips of 84 rows (3 strips), f64 of 42 rows
+        for (ncols, nrows) in [(1, 1), (3, 7), (2_999, 171)] {
+            let g = GridGeometry {
+                ncols,
+                nrows,
+                x_min_m: 912_000.5,
+                y_min_m: 6_456_000.25,
+                cell_size_m: 2.5,
+            };
+            let value = |r: usize, c: usize| ((r * 31 + c * 17) % 101) as f64 * 0.37 - 5.0;
+            let mut grids = vec![Grid::from_fn(g, |r, c| Some(value(r, c)))];
+            // nodata cells, one valid cell holding the grid's marker, a CRS
+            let mut holed = Grid::from_fn(g, |r, c| ((r + c) % 5 != 1).then(|| value(r, c)))
+                .with_crs(Some(Crs::from_epsg(2154)));
+            holed.set_nodata_value(Some(-9999.0));
+            holed.set(0, 0, -9999.0);
+            grids.push(holed);
+            for (k, grid) in grids.iter().enumerate() {
+                for sample in [SampleType::F32, SampleType::F64, SampleType::I32] {
+                    let (old, new) = (dir.path().join("old.tif"), dir.path().join("new.tif"));
+                    whole_grid::write(&old, grid, sample).unwrap();
+                    write(&new, grid, sample).unwrap();
+                    let (old, new) = (std::fs::read(&old).unwrap(), std::fs::read(&new).unwrap());
+                    assert!(old == new, "{ncols} × {nrows}, grid {k}, {sample:?}");
+                }
+            }
+        }
+    }
 
     /// 4 × 3 cells of 2.5 m, north-west corner (1000.25, 2008.25), cell (1, 2) nodata.
     fn grid(value: impl Fn(usize) -> f64) -> Grid<f64> {

@@ -225,15 +225,15 @@ impl<T: Copy + Default> Grid<T> {
 
     /// A grid computed cell by cell from `f(row, col)`.
     pub fn from_fn(geometry: GridGeometry, mut f: impl FnMut(usize, usize) -> Option<T>) -> Self {
-        let mut cells = Vec::with_capacity(geometry.len());
+        let mut values = Vec::with_capacity(geometry.len());
+        let mut valid = Vec::with_capacity(geometry.len());
         for row in 0..geometry.nrows {
             for col in 0..geometry.ncols {
-                cells.push(f(row, col));
+                let cell = f(row, col);
+                valid.push(cell.is_some());
+                values.push(cell.unwrap_or_default());
             }
         }
-        // Length matches by construction.
-        let valid = cells.iter().map(Option::is_some).collect();
-        let values = cells.into_iter().map(Option::unwrap_or_default).collect();
         Grid {
             geometry,
             values,

@@ -10,7 +10,9 @@
 //! - [`ascii_grid`]: ESRI ASCII grid (`.asc`) with a `.prj` sidecar for the CRS;
 //! - [`geotiff`]: GeoTIFF (`.tif`), f32/f64/integer samples, GeoKeys for GDAL and QGIS.
 //!
-//! [`read_grid`] and [`write_grid`] pick the format from the file extension. Every writer goes
+//! [`read_grid`] and [`write_grid`] pick the format from the file extension; [`write_rows`]
+//! writes any [`Rows`] (a raster produced row by row) without a whole grid in memory. Every
+//! writer goes
 //! through [`atomic`]: it writes to a temporary name beside the target and renames, so a
 //! failed write never leaves a half-written file and never destroys an earlier one.
 
@@ -22,11 +24,13 @@ mod error;
 mod field;
 pub mod geotiff;
 mod grid;
+pub mod rows;
 
 pub use crs::Crs;
 pub use error::RasterError;
 pub use field::Field;
 pub use grid::{GeometryMismatch, Grid, GridGeometry};
+pub use rows::{RasterView, Rows};
 
 use std::path::Path;
 
@@ -53,9 +57,16 @@ pub fn read_grid(path: &Path) -> Result<Grid<f64>, RasterError> {
 
 /// Writes a raster, choosing the format from the extension. `sample` applies to GeoTIFF only.
 pub fn write_grid(path: &Path, grid: &Grid<f64>, sample: SampleType) -> Result<(), RasterError> {
+    write_rows(path, grid, sample)
+}
+
+/// Writes a raster given row by row, choosing the format from the extension; the same bytes as
+/// [`write_grid`] of the same cells, with at most one strip of the file in memory. `sample`
+/// applies to GeoTIFF only.
+pub fn write_rows(path: &Path, rows: &impl Rows, sample: SampleType) -> Result<(), RasterError> {
     match format_of(path)? {
-        Format::Ascii => ascii_grid::write(path, grid),
-        Format::GeoTiff => geotiff::write(path, grid, sample),
+        Format::Ascii => ascii_grid::write_rows(path, rows),
+        Format::GeoTiff => geotiff::write_rows(path, rows, sample),
     }
 }
 

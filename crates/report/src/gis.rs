@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use rockfall_plot::ColorScale;
-use rockfall_raster::Grid;
+use rockfall_raster::RasterView;
 
 use crate::layers::{ScaleKind, style};
 use crate::{ReportError, ReportInput, geojson, qml};
@@ -14,7 +14,7 @@ use crate::{ReportError, ReportInput, geojson, qml};
 pub(crate) fn write_style(
     out: &Path,
     name: &str,
-    grid: &Grid<f64>,
+    grid: &impl RasterView,
 ) -> Result<PathBuf, ReportError> {
     let style = style(name);
     // A raster with nothing to colour still gets a style, on a unit scale.

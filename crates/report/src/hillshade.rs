@@ -15,7 +15,7 @@
 //! (Burrough & McDonnell 1998, §8.3). A missing neighbour (nodata, the grid's edge) is
 //! extrapolated linearly through the centre, so a plane is shaded alike to its edges.
 
-use rockfall_raster::Grid;
+use rockfall_raster::{Grid, GridGeometry};
 
 /// Azimuth of the light, degrees clockwise from north: the cartographic north-west.
 pub const SUN_AZIMUTH_DEG: f64 = 315.0;
@@ -25,11 +25,28 @@ pub const SUN_ALTITUDE_DEG: f64 = 45.0;
 /// The shade of every cell of `dem` (heights in m), in `[0, 1]` (1: facing the light);
 /// nodata where the DEM is nodata.
 pub fn hillshade(dem: &Grid<f64>, azimuth_deg: f64, altitude_deg: f64) -> Grid<f64> {
-    let g = *dem.geometry();
-    let (az, alt) = (azimuth_deg.to_radians(), altitude_deg.to_radians());
-    let light = [az.sin() * alt.cos(), az.cos() * alt.cos(), alt.sin()];
-    let eight_delta = 8.0 * g.cell_size_m;
-    Grid::from_fn(g, |row, col| {
+    let light = Light::new(azimuth_deg, altitude_deg);
+    Grid::from_fn(*dem.geometry(), |row, col| light.shade(dem, row, col))
+        .with_crs(dem.crs().cloned())
+}
+
+/// The direction of the light: a unit vector towards the sun.
+#[derive(Debug, Clone, Copy)]
+pub struct Light([f64; 3]);
+
+impl Light {
+    /// The light from azimuth `azimuth_deg` (clockwise from north) and altitude
+    /// `altitude_deg` above the horizon.
+    pub fn new(azimuth_deg: f64, altitude_deg: f64) -> Light {
+        let (az, alt) = (azimuth_deg.to_radians(), altitude_deg.to_radians());
+        Light([az.sin() * alt.cos(), az.cos() * alt.cos(), alt.sin()])
+    }
+
+    /// The shade of cell (row, col) of `dem`, in `[0, 1]`: the value [`hillshade`] gives it,
+    /// computed from its 3 × 3 neighbourhood alone; `None` on nodata or outside.
+    pub fn shade(&self, dem: &Grid<f64>, row: usize, col: usize) -> Option<f64> {
+        let light = self.0;
+        let eight_delta = 8.0 * dem.geometry().cell_size_m;
         let e = dem.get(row, col)?;
         let z = |dr: isize, dc: isize| {
             let r = row.checked_add_signed(dr)?;
@@ -56,16 +73,25 @@ pub fn hillshade(dem: &Grid<f64>, azimuth_deg: f64, altitude_deg: f64) -> Grid<f
         let norm = (dzdx * dzdx + dzdy * dzdy + 1.0).sqrt();
         let cos = (-dzdx * light[0] - dzdy * light[1] + light[2]) / norm;
         Some(cos.clamp(0.0, 1.0))
-    })
-    .with_crs(dem.crs().cloned())
+    }
 }
 
 /// The shade at a point (x, y in m), bilinear between the cell centres around it (the
 /// nearest centre's value past the outermost ones); `None` outside the grid or on nodata.
 pub fn shade_at(shade: &Grid<f64>, x_m: f64, y_m: f64) -> Option<f64> {
-    let g = shade.geometry();
+    shade_at_with(shade.geometry(), |r, c| shade.get(r, c), x_m, y_m)
+}
+
+/// [`shade_at`] with the shade of each cell given by `shade(row, col)` (`None`: nodata), e.g.
+/// computed from the DEM where asked for ([`Light::shade`]) instead of held in a grid.
+pub fn shade_at_with(
+    g: &GridGeometry,
+    shade: impl Fn(usize, usize) -> Option<f64>,
+    x_m: f64,
+    y_m: f64,
+) -> Option<f64> {
     let (row, col) = g.cell_of(x_m, y_m)?;
-    shade.get(row, col)?;
+    let own = shade(row, col)?;
     // Position in cell-centre units: u east from the western centre, v south from the
     // northern one.
     let u = ((x_m - g.x_min_m) / g.cell_size_m - 0.5).clamp(0.0, (g.ncols - 1) as f64);
@@ -73,8 +99,7 @@ pub fn shade_at(shade: &Grid<f64>, x_m: f64, y_m: f64) -> Option<f64> {
     let (c0, r0) = (u.floor() as usize, v.floor() as usize);
     let (c1, r1) = ((c0 + 1).min(g.ncols - 1), (r0 + 1).min(g.nrows - 1));
     let (fu, fv) = (u - c0 as f64, v - r0 as f64);
-    let own = shade.get(row, col)?;
-    let s = |r, c| shade.get(r, c).unwrap_or(own);
+    let s = |r, c| shade(r, c).unwrap_or(own);
     let top = s(r0, c0) * (1.0 - fu) + s(r0, c1) * fu;
     let bottom = s(r1, c0) * (1.0 - fu) + s(r1, c1) * fu;
     Some(top * (1.0 - fv) + bottom * fv)
@@ -151,6 +176,29 @@ mod tests {
             None,
             "a point in the nodata cell"
         );
+    }
+
+    #[test]
+    fn shade_computed_where_asked_is_the_shade_of_the_whole_grid() {
+        // a rough surface with a nodata cell: every point of it and around it
+        let mut dem = plane(0.3, -0.7);
+        for (k, (r, c)) in [(0, 0), (1, 3), (2, 1), (3, 4)].into_iter().enumerate() {
+            dem.set(r, c, 10.0 + 3.0 * k as f64);
+        }
+        dem.set_nodata(2, 2);
+        let whole = hillshade(&dem, SUN_AZIMUTH_DEG, SUN_ALTITUDE_DEG);
+        let light = Light::new(SUN_AZIMUTH_DEG, SUN_ALTITUDE_DEG);
+        let g = *dem.geometry();
+        for i in 0..=60 {
+            for j in 0..=60 {
+                let (x, y) = (
+                    g.x_min_m - 1.0 + i as f64 * 0.4,
+                    g.y_min_m - 1.0 + j as f64 * 0.4,
+                );
+                let lazy = shade_at_with(&g, |r, c| light.shade(&dem, r, c), x, y);
+                assert_eq!(lazy, shade_at(&whole, x, y), "({x}, {y})");
+            }
+        }
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! How each raster is coloured, on the report's maps and in its QGIS style alike.
 
 use rockfall_plot::{ColorScale, Ramp};
-use rockfall_raster::Grid;
+use rockfall_raster::RasterView;
 
 /// Opacity of a raster's colours over the hillshade, on the report's maps and in the QGIS
 /// styles alike.
@@ -76,10 +76,13 @@ impl LayerStyle {
     /// A symmetric scale spans ± the 98th percentile of the magnitudes (so that a few
     /// extreme cells do not wash out the rest; larger ones take the end colours); the others
     /// span the values' whole range (see [`ScaleKind`]).
-    pub fn fit(&self, grid: &Grid<f64>) -> Option<ColorScale> {
-        let shown: Vec<f64> = (grid.iter_valid().map(|(_, _, v)| v))
-            .filter(|&v| self.shows(v))
-            .collect();
+    pub fn fit(&self, grid: &impl RasterView) -> Option<ColorScale> {
+        let mut shown: Vec<f64> = Vec::new();
+        grid.for_each_valid(&mut |_, _, v| {
+            if self.shows(v) {
+                shown.push(v);
+            }
+        });
         let lo = shown.iter().copied().reduce(f64::min)?;
         let hi = shown.iter().copied().reduce(f64::max)?;
         let (min, max) = match self.scale {
@@ -173,7 +176,7 @@ pub fn style(name: &str) -> LayerStyle {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use rockfall_raster::GridGeometry;
+    use rockfall_raster::{Grid, GridGeometry};
 
     fn grid(values: Vec<f64>) -> Grid<f64> {
         let g = GridGeometry {

@@ -17,8 +17,11 @@
 //!   `summary.json` and the files of the folder ([`html`], written last and atomically).
 //!
 //! Files of an earlier report in the same folder that this run does not write again (a
-//! figure, a GeoJSON file) are removed, so the folder holds one run. Rasters are computed
-//! one at a time, so the report needs little memory beyond one grid.
+//! figure, a GeoJSON file) are removed, so the folder holds one run. On a grid of up to
+//! [`WHOLE_GRID_MAX_CELLS`] cells the hillshade and one raster at a time are held whole (fast
+//! maps: a pixel covers less than a cell); on a larger one the run's rasters are read as
+//! views of its per-cell statistics ([`Layer`]) and the relief is shaded where a map pixel
+//! asks for it, so the report allocates nothing per grid cell. Both draw the same maps.
 
 pub mod content;
 mod error;
@@ -38,7 +41,8 @@ mod sections;
 use std::path::{Path, PathBuf};
 
 use rockfall_forest::Stem;
-use rockfall_raster::Grid;
+use rockfall_raster::{Grid, GridGeometry, RasterView};
+use rockfall_results::RasterCells;
 use rockfall_results::{ForestEffect, Results};
 use rockfall_scenario::Scenario;
 
@@ -93,14 +97,61 @@ impl ReportInput<'_> {
     }
 
     /// The raster called `name`: the run's, or the forest effect's; `None` if neither has it.
-    pub fn raster(&self, name: &str) -> Option<Grid<f64>> {
-        self.results.raster(name).or_else(|| {
+    pub fn raster(&self, name: &str) -> Option<Layer<'_>> {
+        let small = self.scenario.terrain.dem.geometry().len() <= WHOLE_GRID_MAX_CELLS;
+        let run = match small {
+            true => self.results.raster(name).map(Layer::Whole),
+            false => self.results.raster_view(name).map(Layer::Run),
+        };
+        run.or_else(|| {
             let effect = self.forest_effect.into_iter().flat_map(|e| e.rasters());
             effect
                 .into_iter()
                 .find(|(n, _)| *n == name)
-                .map(|(_, g)| g.clone())
+                .map(|(_, g)| Layer::Effect(g))
         })
+    }
+}
+
+/// Largest grid the report holds whole (the hillshade, one raster at a time): 2²² cells,
+/// ≤ 38 MB a grid. Larger grids are read as views and shaded where asked, at the cost of
+/// computing a cell once per map pixel that covers it.
+pub const WHOLE_GRID_MAX_CELLS: usize = 1 << 22;
+
+/// A raster the report shows: one of the run's, whole or computed cell by cell from the run's
+/// statistics when read, or a forest-effect difference grid.
+pub enum Layer<'a> {
+    /// A raster of the run read cell by cell ([`rockfall_results::Results::raster_view`]).
+    Run(RasterCells<'a>),
+    /// A raster of the run, whole ([`rockfall_results::Results::raster`]).
+    Whole(Grid<f64>),
+    /// A forest-effect difference.
+    Effect(&'a Grid<f64>),
+}
+
+impl RasterView for Layer<'_> {
+    fn view_geometry(&self) -> GridGeometry {
+        match self {
+            Layer::Run(r) => r.view_geometry(),
+            Layer::Whole(g) => g.view_geometry(),
+            Layer::Effect(g) => g.view_geometry(),
+        }
+    }
+
+    fn cell(&self, row: usize, col: usize) -> Option<f64> {
+        match self {
+            Layer::Run(r) => r.cell(row, col),
+            Layer::Whole(g) => g.cell(row, col),
+            Layer::Effect(g) => g.cell(row, col),
+        }
+    }
+
+    fn for_each_valid(&self, f: &mut dyn FnMut(usize, usize, f64)) {
+        match self {
+            Layer::Run(r) => r.for_each_valid(f),
+            Layer::Whole(g) => g.for_each_valid(f),
+            Layer::Effect(g) => g.for_each_valid(f),
+        }
     }
 }
 

@@ -2,23 +2,28 @@
 //! release cells and points and the screens drawn on top; the site map adds the stems
 //! (where they fit).
 //!
-//! A map pixel shows the hillshade ([`crate::hillshade`]) in grey, and over it the raster's
+//! A map pixel shows the hillshade ([`crate::hillshade`]: held for a DEM of up to
+//! [`crate::WHOLE_GRID_MAX_CELLS`] cells, else computed for the cells under the pixel from the DEM,
+//! which is shared, not copied) in grey, and over it the raster's
 //! colour at [`LAYER_OPACITY`] wherever the layer shows a value ([`LayerStyle::shows`]).
 //! Where a pixel covers several cells (large sites), it shows the value of largest magnitude
 //! among them, so that narrow paths and single hot cells stay visible.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use rockfall_forest::Stem;
 use rockfall_plot::{
     Axes, ColorMapper, ColorScale, MapFigure, MapLine, map_metres_per_px, raster_map,
 };
-use rockfall_raster::{Grid, GridGeometry};
+use rockfall_raster::{Grid, GridGeometry, RasterView};
 use rockfall_scenario::Scenario;
 
 use crate::ReportError;
 use crate::figure::Figure;
-use crate::hillshade::{SUN_ALTITUDE_DEG, SUN_AZIMUTH_DEG, hillshade, shade_at};
+use crate::hillshade::{
+    Light, SUN_ALTITUDE_DEG, SUN_AZIMUTH_DEG, hillshade, shade_at, shade_at_with,
+};
 use crate::layers::{LAYER_OPACITY, LayerStyle, style};
 use crate::qml::number;
 
@@ -31,7 +36,12 @@ const SHADE_LIGHT: f64 = 250.0;
 /// What every map of a run shares: the extent, the hillshade and the overlays.
 pub struct MapBase {
     geometry: GridGeometry,
-    shade: Grid<f64>,
+    /// The DEM (heights, m), for the hillshade.
+    dem: Arc<Grid<f64>>,
+    light: Light,
+    /// The hillshade of a DEM of up to [`crate::WHOLE_GRID_MAX_CELLS`] cells, computed once
+    /// (a larger one is shaded where a pixel asks: the same shade, no second buffer).
+    shade: Option<Grid<f64>>,
     screens: Vec<MapLine>,
     release_cells_m: Vec<[f64; 2]>,
     release_points_m: Vec<[f64; 2]>,
@@ -85,7 +95,8 @@ impl MapBase {
                 .collect(),
             stems_m: stems.iter().map(|s| [s.x_m, s.y_m, s.radius_m()]).collect(),
         };
-        MapBase::from_parts(scenario.terrain.dem.grid(), overlays, label)
+        let dem = Arc::clone(scenario.terrain.dem.shared_grid());
+        MapBase::with_dem(dem, overlays, label)
     }
 
     /// The base of maps over the DEM `dem` (heights in m) with `overlays`.
@@ -97,10 +108,22 @@ impl MapBase {
         overlays: Overlays,
         label: &str,
     ) -> Result<MapBase, ReportError> {
+        MapBase::with_dem(Arc::new(dem.clone()), overlays, label)
+    }
+
+    fn with_dem(
+        dem: Arc<Grid<f64>>,
+        overlays: Overlays,
+        label: &str,
+    ) -> Result<MapBase, ReportError> {
         let geometry = *dem.geometry();
+        let shade = (geometry.len() <= crate::WHOLE_GRID_MAX_CELLS)
+            .then(|| hillshade(&dem, SUN_AZIMUTH_DEG, SUN_ALTITUDE_DEG));
         Ok(MapBase {
             geometry,
-            shade: hillshade(dem, SUN_AZIMUTH_DEG, SUN_ALTITUDE_DEG),
+            dem,
+            light: Light::new(SUN_AZIMUTH_DEG, SUN_ALTITUDE_DEG),
+            shade,
             screens: overlays.screens,
             release_cells_m: overlays.release_cells_m,
             release_points_m: overlays.release_points_m,
@@ -123,7 +146,13 @@ impl MapBase {
 
     /// The grey of the hillshade at a point; `None` off the DEM.
     pub fn grey(&self, x_m: f64, y_m: f64) -> Option<(u8, u8, u8)> {
-        let s = shade_at(&self.shade, x_m, y_m)?;
+        let s = match &self.shade {
+            Some(grid) => shade_at(grid, x_m, y_m)?,
+            None => {
+                let shade = |row, col| self.light.shade(&self.dem, row, col);
+                shade_at_with(&self.geometry, shade, x_m, y_m)?
+            }
+        };
         let g = (SHADE_DARK + (SHADE_LIGHT - SHADE_DARK) * s).round() as u8;
         Some((g, g, g))
     }
@@ -155,12 +184,18 @@ impl MapBase {
     /// The value a pixel centred at `(x_m, y_m)` shows of `grid`: the shown value of largest
     /// magnitude among the cells it covers (the one cell under it when cells are larger than
     /// pixels); `None` where it shows none.
-    pub fn value(&self, grid: &Grid<f64>, style: &LayerStyle, x_m: f64, y_m: f64) -> Option<f64> {
+    pub fn value(
+        &self,
+        grid: &impl RasterView,
+        style: &LayerStyle,
+        x_m: f64,
+        y_m: f64,
+    ) -> Option<f64> {
         let ([r0, r1], [c0, c1]) = self.footprint(x_m, y_m)?;
         let mut best: Option<f64> = None;
         for r in r0..=r1 {
             for c in c0..=c1 {
-                if let Some(v) = grid.get(r, c).filter(|&v| style.shows(v)) {
+                if let Some(v) = grid.cell(r, c).filter(|&v| style.shows(v)) {
                     best = Some(best.map_or(v, |b| if v.abs() > b.abs() { v } else { b }));
                 }
             }
@@ -172,7 +207,7 @@ impl MapBase {
     /// it shows a value, the hillshade elsewhere, `None` off the DEM.
     pub fn pixel(
         &self,
-        grid: &Grid<f64>,
+        grid: &impl RasterView,
         style: &LayerStyle,
         colours: &ColorMapper,
         x_m: f64,
@@ -245,7 +280,7 @@ impl MapBase {
         &self,
         dir: &Path,
         name: &str,
-        grid: &Grid<f64>,
+        grid: &impl RasterView,
     ) -> Result<Option<Figure>, ReportError> {
         let style = style(name);
         let Some(scale) = style.fit(grid) else {
@@ -262,8 +297,10 @@ impl MapBase {
         fig.notes.push(format!(
             "GIS: {name}.tif, styled for QGIS by {name}.qml beside it."
         ));
-        let beyond =
-            (grid.iter_valid()).any(|(_, _, v)| style.shows(v) && (v > scale.max || v < scale.min));
+        let mut beyond = false;
+        grid.for_each_valid(&mut |_, _, v| {
+            beyond |= style.shows(v) && (v > scale.max || v < scale.min);
+        });
         if beyond {
             fig.notes.push(format!(
                 "Colours span {} to {} {}; the few cells beyond take the end colours.",

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use rockfall_plot::{Axes, Panel, Series, line_panels};
-use rockfall_raster::Grid;
+use rockfall_raster::RasterView;
 use rockfall_results::ProfileBin;
 use rockfall_terrain::Dem;
 
@@ -134,15 +134,18 @@ impl GroundBin {
 /// `sources_m`, in bins of `bin_m`, with their elevations.
 fn ground_bins(
     dem: &Dem,
-    passages: &Grid<f64>,
+    passages: &impl RasterView,
     sources_m: &[[f64; 2]],
     bin_m: f64,
 ) -> Vec<GroundBin> {
-    let g = *passages.geometry();
+    let g = passages.view_geometry();
     let mut bins: Vec<GroundBin> = Vec::new();
-    for (row, col, w) in passages.iter_valid().filter(|c| c.2 > 0.0) {
+    passages.for_each_valid(&mut |row, col, w| {
+        if w <= 0.0 || w.is_nan() {
+            return;
+        }
         let Some(z) = dem.grid().get(row, col) else {
-            continue;
+            return;
         };
         let (x, y) = g.cell_center(row, col);
         let nearest = |d: f64, s: &[f64; 2]| d.min((x - s[0]).hypot(y - s[1]));
@@ -151,7 +154,7 @@ fn ground_bins(
             bins.resize(k + 1, GroundBin::default());
         }
         bins[k].add(z, w);
-    }
+    });
     bins
 }
 
@@ -162,7 +165,7 @@ fn ground_bins(
 pub fn slope_profile(
     dir: &Path,
     dem: &Dem,
-    passages: &Grid<f64>,
+    passages: &impl RasterView,
     sources_m: &[[f64; 2]],
     bin_m: f64,
 ) -> Result<Option<Figure>, ReportError> {

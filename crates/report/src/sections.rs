@@ -4,17 +4,16 @@
 
 use std::path::Path;
 
-use rockfall_raster::Grid;
 use rockfall_results::Summary;
 use rockfall_scenario::Engine;
 
 use crate::html::FigureSection;
 use crate::maps::MapBase;
-use crate::{Figure, MAPPED, ReportError, ReportInput, plots, profiles};
+use crate::{Figure, Layer, MAPPED, ReportError, ReportInput, plots, profiles};
 
 /// The maps of the rasters, drawn while each raster is in memory ([`LayerMaps::draw`]).
 #[derive(Default)]
-pub(crate) struct LayerMaps {
+pub(crate) struct LayerMaps<'a> {
     /// Key rasters' maps with their place in [`MAPPED`].
     maps: Vec<(usize, Figure)>,
     /// Forest-effect maps.
@@ -23,10 +22,10 @@ pub(crate) struct LayerMaps {
     skipped: Vec<String>,
     effect_skipped: Vec<String>,
     /// `Nr_passages`, kept for the slope profile.
-    passages: Option<Grid<f64>>,
+    passages: Option<Layer<'a>>,
 }
 
-impl LayerMaps {
+impl<'a> LayerMaps<'a> {
     /// Maps the raster `name` (`grid`) if the report shows it: a key raster of [`MAPPED`]
     /// (`Nr_tree_impacts` only with stems) or a forest-effect difference; keeps
     /// `Nr_passages` for the slope profile.
@@ -36,7 +35,7 @@ impl LayerMaps {
         input: &ReportInput<'_>,
         base: &MapBase,
         name: &str,
-        grid: Grid<f64>,
+        grid: Layer<'a>,
     ) -> Result<(), ReportError> {
         self.map(dir, input, base, name, &grid)?;
         if name == "Nr_passages" {
@@ -51,7 +50,7 @@ impl LayerMaps {
         input: &ReportInput<'_>,
         base: &MapBase,
         name: &str,
-        grid: &Grid<f64>,
+        grid: &Layer<'_>,
     ) -> Result<(), ReportError> {
         let effect = name.starts_with("Forest_effect_");
         let key = MAPPED.iter().position(|m| *m == name);
@@ -77,7 +76,7 @@ pub(crate) fn figure_sections(
     dir: &Path,
     input: &ReportInput<'_>,
     base: &MapBase,
-    layers: LayerMaps,
+    layers: LayerMaps<'_>,
     summary: &Summary,
 ) -> Result<Vec<FigureSection>, ReportError> {
     let mut sections = vec![maps(dir, input, base, layers.maps, &layers.skipped)?];
@@ -149,7 +148,7 @@ fn distributions(
     dir: &Path,
     input: &ReportInput<'_>,
     base: &MapBase,
-    passages: Option<&Grid<f64>>,
+    passages: Option<&Layer<'_>>,
     summary: &Summary,
 ) -> Result<FigureSection, ReportError> {
     let r = input.results;

@@ -1,10 +1,14 @@
 //! Per-cell statistics, allocated only for cells something happened in.
 //!
-//! A [`CellTable`] holds one `u32` slot per grid cell (4 bytes per cell) pointing into a dense
-//! list of [`CellStats`] for the cells actually touched (visited, deposited in or holding a
-//! hit tree). A touched cell costs 160 bytes; a visited one also carries its two
-//! histograms, (322 + 194) × 4 = 2 064 bytes on the heap, plus 4 bytes per distinct source
-//! cell that reached it.
+//! A [`CellTable`] keeps a dense list of [`CellStats`] for the cells actually touched (visited,
+//! deposited in or holding a hit tree) and finds them through blocks of 64 × 64 cells created
+//! on first touch: one `u32` slot per cell of a touched block (16 KiB a block) pointing into
+//! the list, and a directory of 4 bytes per block of the grid (≈ 0.001 byte per cell). Memory
+//! thus follows the area rocks reach, not the grid. A touched cell costs 160 bytes; a visited
+//! one also carries its two histograms, (322 + 194) × 4 = 2 064 bytes on the heap, plus 4
+//! bytes per distinct source cell that reached it.
+
+use rockfall_raster::GridGeometry;
 
 use crate::CellVisit;
 use crate::hist::{
@@ -159,30 +163,73 @@ fn union_sorted(a: &[u32], b: &[u32]) -> Vec<u32> {
     out
 }
 
-/// Per-cell statistics of a grid of `len` cells.
+/// Side of a block of cells, as a power of two: blocks of 64 × 64 cells.
+const BLOCK_SHIFT: usize = 6;
+/// Side of a block of cells.
+const BLOCK: usize = 1 << BLOCK_SHIFT;
+
+/// The slots of one block: row-major within the block, [`NONE`] or an index into the list.
+type Block = [u32; BLOCK * BLOCK];
+
+/// Per-cell statistics of a grid, allocated block by block where something happened.
 #[derive(Debug, Clone)]
 pub(crate) struct CellTable {
-    slot: Vec<u32>,
+    ncols: usize,
+    len: usize,
+    /// Blocks per block row: `ceil(ncols / 64)`.
+    blocks_across: usize,
+    /// Per block of the grid (row-major), [`NONE`] or its index in `blocks`.
+    directory: Vec<u32>,
+    /// The blocks touched so far.
+    blocks: Vec<Box<Block>>,
     cells: Vec<CellStats>,
 }
 
 impl CellTable {
-    /// An empty table for `len` cells.
-    pub(crate) fn new(len: usize) -> CellTable {
+    /// An empty table for the cells of `geometry`.
+    pub(crate) fn new(geometry: &GridGeometry) -> CellTable {
+        let blocks_across = geometry.ncols.div_ceil(BLOCK);
+        let blocks_down = geometry.nrows.div_ceil(BLOCK);
         CellTable {
-            slot: vec![NONE; len],
+            ncols: geometry.ncols,
+            len: geometry.len(),
+            blocks_across,
+            directory: vec![NONE; blocks_across * blocks_down],
+            blocks: Vec::new(),
             cells: Vec::new(),
         }
     }
 
-    /// Statistics of `cell`, created on first use; `None` outside the grid.
+    /// (block number, slot within the block) of `cell`; `None` outside the grid.
+    #[inline]
+    fn locate(&self, cell: usize) -> Option<(usize, usize)> {
+        if cell >= self.len {
+            return None;
+        }
+        let (row, col) = (cell / self.ncols, cell % self.ncols);
+        let block = (row >> BLOCK_SHIFT) * self.blocks_across + (col >> BLOCK_SHIFT);
+        let slot = ((row & (BLOCK - 1)) << BLOCK_SHIFT) | (col & (BLOCK - 1));
+        Some((block, slot))
+    }
+
+    /// Statistics of `cell`, created on first use (with its block); `None` outside the grid.
     fn entry(&mut self, cell: usize) -> Option<&mut CellStats> {
-        let s = *self.slot.get(cell)?;
+        let (block, slot) = self.locate(cell)?;
+        let mut b = self.directory[block];
+        if b == NONE {
+            b = u32::try_from(self.blocks.len())
+                .ok()
+                .filter(|&n| n != NONE)?;
+            self.directory[block] = b;
+            self.blocks.push(Box::new([NONE; BLOCK * BLOCK]));
+        }
+        let slots = &mut self.blocks[b as usize];
+        let s = slots[slot];
         if s == NONE {
             let new = u32::try_from(self.cells.len())
                 .ok()
                 .filter(|&n| n != NONE)?;
-            self.slot[cell] = new;
+            slots[slot] = new;
             self.cells.push(CellStats::new(cell));
             self.cells.last_mut()
         } else {
@@ -192,8 +239,19 @@ impl CellTable {
 
     /// Statistics of `cell`, when something happened there.
     pub(crate) fn get(&self, cell: usize) -> Option<&CellStats> {
-        let s = *self.slot.get(cell)?;
+        let (block, slot) = self.locate(cell)?;
+        let b = self.directory[block];
+        if b == NONE {
+            return None;
+        }
+        let s = self.blocks[b as usize][slot];
         (s != NONE).then(|| &self.cells[s as usize])
+    }
+
+    /// Blocks of 64 × 64 cells allocated so far (for tests of the memory bound).
+    #[cfg(test)]
+    pub(crate) fn blocks_allocated(&self) -> usize {
+        self.blocks.len()
     }
 
     /// Cells with statistics, in no particular order.
@@ -276,7 +334,13 @@ mod tests {
 
     #[test]
     fn visits_outside_the_grid_are_ignored_and_distinct_rocks_counted_once() {
-        let mut t = CellTable::new(4);
+        let mut t = CellTable::new(&GridGeometry {
+            ncols: 2,
+            nrows: 2,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 1.0,
+        });
         let v = CellVisit {
             energy_j: 10.0,
             velocity_ms: 2.0,
@@ -291,5 +355,45 @@ mod tests {
         assert_eq!((c.visits, c.reached, c.sources.clone()), (3, 2, vec![3, 7]));
         assert_eq!(c.energy_mean_j(), Some(10.0));
         assert!(t.get(1).is_none());
+    }
+
+    #[test]
+    fn a_huge_grid_allocates_blocks_only_where_cells_are_touched() {
+        // 10⁸ cells: a slot per cell would be 400 MB; the directory is 2 500 × 2 500 × 4 B.
+        let g = GridGeometry {
+            ncols: 10_000,
+            nrows: 10_000,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 2.0,
+        };
+        let mut t = CellTable::new(&g);
+        assert_eq!((t.directory.len(), t.blocks_allocated()), (157 * 157, 0));
+        let v = CellVisit {
+            energy_j: 1.0,
+            velocity_ms: 1.0,
+            passing_height_m: 0.1,
+        };
+        // a path down one column crosses 200 rows: 4 blocks (rows 0–63, …, 192–255)
+        for row in 0..200 {
+            t.visit(g.index(row, 5_000), 1, 0, &v);
+        }
+        assert_eq!(t.blocks_allocated(), 4);
+        // the same block again, the last cell of the grid, a deposit and a tree
+        t.visit(g.index(63, 5_055), 2, 0, &v);
+        t.deposit(g.len() - 1);
+        t.tree_impact(g.index(9_999, 0), 2.0, false);
+        assert_eq!(t.blocks_allocated(), 6);
+        assert_eq!(t.touched().len(), 203);
+        assert_eq!(t.get(g.index(199, 5_000)).map(|c| c.visits), Some(1));
+        assert!(t.get(g.index(200, 5_000)).is_none());
+        assert!(t.get(g.index(199, 5_001)).is_none());
+        assert_eq!(t.get(g.len() - 1).map(|c| c.deposited), Some(1));
+        assert!(t.get(g.len()).is_none());
+        // merging allocates the other table's blocks in this one, no others
+        let mut merged = CellTable::new(&g);
+        merged.merge(t.clone());
+        assert_eq!(merged.blocks_allocated(), 6);
+        assert_eq!(merged.get(g.index(63, 5_055)).map(|c| c.reached), Some(1));
     }
 }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use rockfall_raster::{Grid, SampleType};
 use serde::{Deserialize, Serialize};
 
-use crate::results::{Kind, NODATA};
+use crate::results::{Kind, NODATA, RasterCells};
 use crate::summary::finite;
 use crate::write::{create_dir, write_json, write_raster};
 use crate::{Results, ScreenSummary};
@@ -174,20 +174,21 @@ impl ForestEffect {
     pub fn new(with_forest: &Results, without_forest: &Results) -> ForestEffect {
         let geometry = with_forest.layout.geometry;
         let crs = with_forest.layout.crs.clone();
-        let pair = |kind| (with_forest.grid(kind), without_forest.grid(kind));
+        // the runs' rasters are read cell by cell from their statistics: no grid of them
+        let pair = |kind| (with_forest.rows(kind), without_forest.rows(kind));
         let (rw, ro) = pair(Kind::Reach);
         let (ew, eo) = pair(Kind::EnergyPercentile(95.0));
         let (pw, po) = pair(Kind::Passages);
-        let reached = |g: &Grid<f64>, i| g.get_index(i).is_some_and(|v| v > 0.0);
+        let reached = |g: &RasterCells<'_>, i| g.at(i).is_some_and(|v| v > 0.0);
         let reach = Grid::from_fn(geometry, |row, col| {
             let i = geometry.index(row, col);
-            let v = |g: &Grid<f64>| g.get_index(i).unwrap_or(0.0);
+            let v = |g: &RasterCells<'_>| g.at(i).unwrap_or(0.0);
             Some(v(&rw) - v(&ro))
         })
         .with_crs(crs.clone());
         let mut e95 = Grid::from_fn(geometry, |row, col| {
             let i = geometry.index(row, col);
-            match (ew.get_index(i), eo.get_index(i)) {
+            match (ew.at(i), eo.at(i)) {
                 (None, None) => None,
                 (a, b) => Some(a.unwrap_or(0.0) - b.unwrap_or(0.0)),
             }
@@ -197,7 +198,8 @@ impl ForestEffect {
 
         let (sw, so) = (with_forest.summary(), without_forest.summary());
         let either = |i| reached(&pw, i) || reached(&po, i);
-        let count = |g: &Grid<f64>| (0..geometry.len()).filter(|&i| reached(g, i)).count() as u64;
+        let count =
+            |g: &RasterCells<'_>| (0..geometry.len()).filter(|&i| reached(g, i)).count() as u64;
         let d = |f: fn(&crate::Summary) -> Option<f64>| Difference::of(f(&sw), f(&so));
         let summary = ForestEffectSummary {
             engine: sw.engine.clone(),

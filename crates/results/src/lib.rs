@@ -31,7 +31,8 @@
 //!
 //! # Memory
 //!
-//! Per tally: 4 bytes per grid cell, plus for every cell something happened in 160 bytes of
+//! Per tally: 16 KiB per block of 64 × 64 cells something happened in (and ≈ 0.001 byte per
+//! grid cell for the directory of blocks), plus for every cell something happened in 160 bytes of
 //! counters (in a list that may hold up to as much again in spare capacity) and, once
 //! visited, its energy and passing-height histograms ((322 + 194) × 4 = 2 064 bytes, one
 //! heap block) and 4 bytes per distinct source cell that reached it: ≈ 2.2–2.4 kB per
@@ -70,7 +71,7 @@ pub use persist::{
     write_tally,
 };
 pub use profile::ProfileBin;
-pub use results::{Results, RunInfo};
+pub use results::{RasterCells, Results, RunInfo};
 pub use screens::ScreenSet;
 pub use summary::{MeanP95Max, Outcomes, Runout, ScreenSummary, Summary, TimeStats};
 pub use tally::Tally;

@@ -1,6 +1,6 @@
 //! The merged outcome of a run: rasters, summary and trajectories.
 
-use rockfall_raster::{Grid, SampleType};
+use rockfall_raster::{Crs, Grid, GridGeometry, RasterView, Rows, SampleType};
 
 use crate::cells::CellStats;
 use crate::convergence::ConvergenceSummary;
@@ -181,55 +181,141 @@ impl Results {
         Some(self.grid(kind))
     }
 
+    /// The raster called `name`, as [`Results::raster`] gives it, but as a view that computes
+    /// each cell from the per-cell statistics when read: nothing per grid cell is allocated,
+    /// for maps and statistics of huge grids. `None` for an unknown name.
+    pub fn raster_view(&self, name: &str) -> Option<RasterCells<'_>> {
+        let (_, kind) = self.kinds().into_iter().find(|(n, _)| n == name)?;
+        Some(self.rows(kind))
+    }
+
     /// Sample type a raster is written with: `I32` for counts (`F64` should a count exceed
     /// the `i32` range), `F32` for the others.
-    pub(crate) fn sample_type(kind: Kind, grid: &Grid<f64>) -> SampleType {
-        match kind.is_count() {
-            false => SampleType::F32,
-            true if grid
-                .min_max()
-                .is_some_and(|(_, hi)| hi > f64::from(i32::MAX)) =>
-            {
-                SampleType::F64
-            }
-            true => SampleType::I32,
+    pub(crate) fn sample_type(&self, kind: Kind) -> SampleType {
+        // cells nothing happened in count 0: only the touched cells can exceed the range
+        let rocks = self.rocks();
+        let too_big = (self.tally.cells.touched().iter())
+            .filter_map(|c| self.cell_value(kind, rocks, Some(c)))
+            .any(|v| v > f64::from(i32::MAX));
+        match (kind.is_count(), too_big) {
+            (false, _) => SampleType::F32,
+            (true, true) => SampleType::F64,
+            (true, false) => SampleType::I32,
         }
     }
 
-    pub(crate) fn grid(&self, kind: Kind) -> Grid<f64> {
-        let rocks = self.rocks();
-        let value = |c: Option<&CellStats>| -> Option<f64> {
-            let visited = c.filter(|c| c.visits > 0);
-            match kind {
-                Kind::Passages => Some(c.map_or(0, |c| c.visits) as f64),
-                Kind::Reach => Some(match (c, rocks) {
-                    (Some(c), 1..) => c.reached as f64 / rocks as f64 * 100.0,
-                    _ => 0.0,
-                }),
-                Kind::Deposited => Some(c.map_or(0, |c| c.deposited) as f64),
-                Kind::Sources => Some(c.map_or(0, |c| c.sources.len()) as f64),
-                Kind::EnergyMean => visited?.energy_mean_j().map(|e| e / 1e3),
-                Kind::EnergyPercentile(p) => visited?.energy_percentile_j(p).map(|e| e / 1e3),
-                Kind::HeightMean => visited?.height_mean_m(),
-                Kind::Height95 => visited?.height_percentile_m(95.0),
-                Kind::VelocityMax => visited.map(|c| c.velocity_max_ms),
-                Kind::TreeImpacts => Some(c.map_or(0, |c| c.tree_impacts) as f64),
-                Kind::TreeHeightMax => c
-                    .filter(|c| c.tree_impacts > 0)
-                    .map(|c| c.tree_height_max_m),
-                Kind::StemsBroken => Some(c.map_or(0, |c| c.stems_broken) as f64),
-            }
-        };
-        let geometry = self.layout.geometry;
-        let cells = (0..geometry.len())
-            .map(|i| value(self.tally.cells.get(i)))
-            .collect();
-        let mut grid = Grid::from_options(geometry, cells)
-            .unwrap_or_else(|| Grid::filled(geometry, 0.0))
-            .with_crs(self.layout.crs.clone());
-        if !kind.is_count() {
-            grid.set_nodata_value(Some(NODATA));
+    /// The value of raster `kind` in a cell with statistics `c` (`None`: nothing happened
+    /// there) of a run of `rocks` rocks; `None` for nodata.
+    fn cell_value(&self, kind: Kind, rocks: u64, c: Option<&CellStats>) -> Option<f64> {
+        let visited = c.filter(|c| c.visits > 0);
+        match kind {
+            Kind::Passages => Some(c.map_or(0, |c| c.visits) as f64),
+            Kind::Reach => Some(match (c, rocks) {
+                (Some(c), 1..) => c.reached as f64 / rocks as f64 * 100.0,
+                _ => 0.0,
+            }),
+            Kind::Deposited => Some(c.map_or(0, |c| c.deposited) as f64),
+            Kind::Sources => Some(c.map_or(0, |c| c.sources.len()) as f64),
+            Kind::EnergyMean => visited?.energy_mean_j().map(|e| e / 1e3),
+            Kind::EnergyPercentile(p) => visited?.energy_percentile_j(p).map(|e| e / 1e3),
+            Kind::HeightMean => visited?.height_mean_m(),
+            Kind::Height95 => visited?.height_percentile_m(95.0),
+            Kind::VelocityMax => visited.map(|c| c.velocity_max_ms),
+            Kind::TreeImpacts => Some(c.map_or(0, |c| c.tree_impacts) as f64),
+            Kind::TreeHeightMax => c
+                .filter(|c| c.tree_impacts > 0)
+                .map(|c| c.tree_height_max_m),
+            Kind::StemsBroken => Some(c.map_or(0, |c| c.stems_broken) as f64),
         }
+    }
+
+    /// Raster `kind` as rows computed on the fly from the per-cell statistics: what the
+    /// writers read, so that no whole-grid buffer is ever made.
+    pub(crate) fn rows(&self, kind: Kind) -> RasterCells<'_> {
+        RasterCells {
+            results: self,
+            kind,
+            rocks: self.rocks(),
+        }
+    }
+
+    /// Raster `kind` as a whole grid (for [`Results::raster`]).
+    pub(crate) fn grid(&self, kind: Kind) -> Grid<f64> {
+        let rows = self.rows(kind);
+        let geometry = self.layout.geometry;
+        let mut grid = Grid::filled(geometry, 0.0).with_crs(self.layout.crs.clone());
+        rockfall_raster::rows::for_each_row(&rows, |row, cells| {
+            for (col, c) in cells.iter().enumerate() {
+                match c {
+                    Some(v) => grid.set(row, col, *v),
+                    None => grid.set_nodata(row, col),
+                }
+            }
+        });
+        grid.set_nodata_value(Rows::nodata_value(&rows));
         grid
+    }
+}
+
+/// One raster of [`Results`] seen row by row ([`Rows`], what the writers read) or cell by cell
+/// ([`RasterView`]), each cell computed from the per-cell statistics when read
+/// ([`Results::raster_view`]).
+#[derive(Clone, Copy)]
+pub struct RasterCells<'a> {
+    results: &'a Results,
+    kind: Kind,
+    rocks: u64,
+}
+
+impl RasterCells<'_> {
+    /// Value of the cell at row-major `index` (inside the grid).
+    pub(crate) fn at(&self, index: usize) -> Option<f64> {
+        let r = self.results;
+        r.cell_value(self.kind, self.rocks, r.tally.cells.get(index))
+    }
+}
+
+impl RasterView for RasterCells<'_> {
+    fn view_geometry(&self) -> GridGeometry {
+        self.results.layout.geometry
+    }
+
+    fn cell(&self, row: usize, col: usize) -> Option<f64> {
+        let g = &self.results.layout.geometry;
+        (row < g.nrows && col < g.ncols)
+            .then(|| self.at(g.index(row, col)))
+            .flatten()
+    }
+
+    fn for_each_valid(&self, f: &mut dyn FnMut(usize, usize, f64)) {
+        rockfall_raster::rows::for_each_row(self, |row, cells| {
+            for (col, c) in cells.iter().enumerate() {
+                if let Some(v) = *c {
+                    f(row, col, v);
+                }
+            }
+        });
+    }
+}
+
+impl Rows for RasterCells<'_> {
+    fn geometry(&self) -> GridGeometry {
+        self.results.layout.geometry
+    }
+
+    fn crs(&self) -> Option<&Crs> {
+        self.results.layout.crs.as_ref()
+    }
+
+    /// −9999 for the non-count rasters; counts have no nodata.
+    fn nodata_value(&self) -> Option<f64> {
+        (!self.kind.is_count()).then_some(NODATA)
+    }
+
+    fn row(&self, row: usize, out: &mut [Option<f64>]) {
+        let first = row * self.results.layout.geometry.ncols;
+        for (col, o) in out.iter_mut().enumerate() {
+            *o = self.at(first + col);
+        }
     }
 }

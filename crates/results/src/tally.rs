@@ -108,9 +108,10 @@ impl RockStats {
 /// entirely by one tally. When all rocks are done, [`Tally::merge`] the tallies in any order:
 /// the result is bit-identical.
 ///
-/// Memory: 4 bytes per grid cell, plus per touched cell the statistics described in the
-/// crate documentation (≈ 2.2–2.4 kB per visited cell), plus the recorded rows; nothing per
-/// rock unless [`Layout::rock_ends`], which keeps one [`RockRecord`] per rock.
+/// Memory: per touched cell the statistics described in the crate documentation (≈ 2.2–2.4 kB
+/// per visited cell) and 16 KiB per touched block of 64 × 64 cells, ≈ 0.001 byte per grid
+/// cell, plus the recorded rows; nothing per rock unless [`Layout::rock_ends`], which keeps
+/// one [`RockRecord`] per rock.
 #[derive(Debug, Clone)]
 pub struct Tally {
     layout: Arc<Layout>,
@@ -130,7 +131,7 @@ impl Tally {
     /// An empty tally for a run on `layout`.
     pub fn new(layout: Arc<Layout>) -> Tally {
         Tally {
-            cells: CellTable::new(layout.geometry.len()),
+            cells: CellTable::new(&layout.geometry),
             screens: (0..layout.screens.len())
                 .map(|_| ScreenStats::new())
                 .collect(),

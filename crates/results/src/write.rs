@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use rockfall_raster::{Grid, RasterError, SampleType, atomic, write_grid};
+use rockfall_raster::{RasterError, Rows, SampleType, atomic, write_rows};
 use serde::Serialize;
 
 use crate::{Results, RockRecord, TrajectoryRow};
@@ -54,22 +54,22 @@ pub(crate) fn create_dir(dir: &Path) -> Result<(), ResultsError> {
     })
 }
 
-/// Writes `grid` as `<name>.tif` (and `<name>.asc` + `.prj` when `ascii`) into `dir`; pushes
-/// the paths written.
+/// Writes `grid` (a [`rockfall_raster::Grid`] or rows computed on the fly) as `<name>.tif` (and `<name>.asc` +
+/// `.prj` when `ascii`) into `dir`, row by row; pushes the paths written.
 pub(crate) fn write_raster(
     dir: &Path,
     name: &str,
-    grid: &Grid<f64>,
+    grid: &impl Rows,
     sample: SampleType,
     ascii: bool,
     written: &mut Vec<PathBuf>,
 ) -> Result<(), ResultsError> {
     let tif = dir.join(format!("{name}.tif"));
-    write_grid(&tif, grid, sample)?;
+    write_rows(&tif, grid, sample)?;
     written.push(tif);
     if ascii {
         let asc = dir.join(format!("{name}.asc"));
-        write_grid(&asc, grid, sample)?;
+        write_rows(&asc, grid, sample)?;
         written.push(asc.clone());
         let prj = rockfall_raster::ascii_grid::prj_path(&asc);
         if grid.crs().and_then(|c| c.wkt_for_prj()).is_some() {
@@ -178,9 +178,15 @@ impl Results {
         create_dir(out_dir)?;
         let mut written = Vec::new();
         for (name, kind) in self.kinds() {
-            let grid = self.grid(kind);
-            let sample = Results::sample_type(kind, &grid);
-            write_raster(out_dir, &name, &grid, sample, ascii, &mut written)?;
+            let sample = self.sample_type(kind);
+            write_raster(
+                out_dir,
+                &name,
+                &self.rows(kind),
+                sample,
+                ascii,
+                &mut written,
+            )?;
         }
         let summary = out_dir.join("summary.json");
         write_json(&summary, &self.summary())?;

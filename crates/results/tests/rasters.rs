@@ -6,6 +6,8 @@ mod common;
 
 use std::sync::Arc;
 
+use rockfall_raster::RasterView;
+
 use rockfall_results::{
     CellVisit, Outcome, Results, RockEnd, RockStart, RunInfo, ScreenCrossing, Tally,
 };
@@ -144,6 +146,18 @@ fn reach_probability_sourcecells_and_nodata_on_a_hand_made_case() {
         ]
     );
     assert!(r.raster("E_97").is_none());
+    // the views the report reads and the writers stream give the grids' cells
+    for name in r.raster_names() {
+        let (grid, view) = (g(&name), r.raster_view(&name).unwrap());
+        let geometry = *grid.geometry();
+        for i in 0..geometry.len() + 7 {
+            let (row, col) = (i / geometry.ncols, i % geometry.ncols);
+            assert_eq!(view.cell(row, col), grid.get(row, col), "{name} {i}");
+        }
+        let mut valid = Vec::new();
+        view.for_each_valid(&mut |row, col, v| valid.push((row, col, v)));
+        assert_eq!(valid, grid.iter_valid().collect::<Vec<_>>(), "{name}");
+    }
 
     let s = r.summary_json();
     assert_eq!(s["stopped_fraction"], 0.5);

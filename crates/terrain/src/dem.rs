@@ -1,5 +1,7 @@
 //! The DEM as a continuous surface.
 
+use std::sync::Arc;
+
 use crate::{BilinearPatch, TerrainError};
 use rockfall_raster::{Crs, Grid, GridGeometry};
 
@@ -45,9 +47,14 @@ impl SurfacePoint {
 /// The surface is defined on the rectangle spanned by the outermost cell centres, wherever
 /// all four corners of the local patch hold data. Points in the outer half-cell rim of the
 /// grid, or in a patch touching a nodata cell, are outside the terrain (`None`).
+///
+/// The height grid is held once and shared: clones of a `Dem` and the engines' [`Lattice`]s
+/// made from it read the same memory.
+///
+/// [`Lattice`]: crate::Lattice
 #[derive(Debug, Clone)]
 pub struct Dem {
-    grid: Grid<f64>,
+    grid: Arc<Grid<f64>>,
     /// x, y of the centre of the south-west cell, m.
     x0_m: f64,
     y0_m: f64,
@@ -71,12 +78,18 @@ impl Dem {
             x0_m: g.x_min_m + 0.5 * g.cell_size_m,
             y0_m: g.y_min_m + 0.5 * g.cell_size_m,
             inv_cell: 1.0 / g.cell_size_m,
-            grid,
+            grid: Arc::new(grid),
         })
     }
 
     /// The height grid.
     pub fn grid(&self) -> &Grid<f64> {
+        &self.grid
+    }
+
+    /// The height grid, shared: what a [`crate::Lattice`] or a map reads in place instead of
+    /// a copy.
+    pub fn shared_grid(&self) -> &Arc<Grid<f64>> {
         &self.grid
     }
 

@@ -1,19 +1,22 @@
-//! The DEM laid out for an engine's inner loop: the heights at cell centres in one flat
-//! array, rows from the south, NaN for nodata, with the bilinear surface of [`crate::Dem`]
-//! evaluated without bounds-checked grid access or `Option` per corner.
+//! The DEM seen the way an engine's inner loop wants it: lattice nodes counted from the
+//! south-west, NaN for nodata, with the bilinear surface of [`crate::Dem`] evaluated without
+//! `Option` per corner. The heights are not copied: a `Lattice` reads the [`crate::Dem`]'s
+//! own grid (row 0 north) through a shared pointer, so the DEM is in memory once.
 //!
 //! The surface is the same as [`crate::Dem`]'s: patch (i, j) spans the cell centres
 //! (i, j)…(i+1, j+1) of the south-up lattice and holds
 //! `z(u, v) = z00 + a·u + b·v + c·u·v` with `a = z10 − z00`, `b = z01 − z00`,
 //! `c = z00 − z10 − z01 + z11` and (u, v) ∈ [0, 1]² ([`crate::BilinearPatch`]).
 
+use std::sync::Arc;
+
 use crate::{Dem, SurfacePoint};
-use rockfall_raster::GridGeometry;
+use rockfall_raster::{Grid, GridGeometry};
 
 /// Bilinear coefficients `(z00, a, b, c)` of one patch, m.
 pub type PatchCoefficients = (f64, f64, f64, f64);
 
-/// Flat, south-up copy of a DEM with its bilinear surface.
+/// A DEM's bilinear surface on the south-up lattice of its cell centres (sharing its grid).
 #[derive(Debug, Clone)]
 pub struct Lattice {
     geometry: GridGeometry,
@@ -22,24 +25,16 @@ pub struct Lattice {
     /// x, y of the south-west cell centre (origin of the patch lattice), m.
     x0: f64,
     y0: f64,
-    /// Heights at cell centres, rows from the south (`j·ncols + i`); NaN for nodata.
-    z_south: Vec<f64>,
+    /// The DEM's heights at cell centres, row-major from the north, with their mask.
+    grid: Arc<Grid<f64>>,
+    /// True when every cell holds data: the mask need not be read.
+    all_valid: bool,
 }
 
 impl Lattice {
-    /// Copies the heights of `dem`.
+    /// The surface of `dem`, sharing its heights (nothing is copied).
     pub fn new(dem: &Dem) -> Lattice {
         let geometry = *dem.geometry();
-        let grid = dem.grid();
-        let (ncols, nrows) = (geometry.ncols, geometry.nrows);
-        let mut z_south = vec![f64::NAN; ncols * nrows];
-        for row in 0..nrows {
-            for col in 0..ncols {
-                if let Some(z) = grid.get(row, col) {
-                    z_south[(nrows - 1 - row) * ncols + col] = z;
-                }
-            }
-        }
         let h = geometry.cell_size_m;
         Lattice {
             geometry,
@@ -47,7 +42,34 @@ impl Lattice {
             inv_h: 1.0 / h,
             x0: geometry.x_min_m + 0.5 * h,
             y0: geometry.y_min_m + 0.5 * h,
-            z_south,
+            grid: Arc::clone(dem.shared_grid()),
+            all_valid: dem.grid().nodata_count() == 0,
+        }
+    }
+
+    /// Height of the cell at row-major index `k` (row 0 north), NaN for nodata.
+    #[inline]
+    fn z(&self, k: usize) -> f64 {
+        let z = self.grid.values()[k];
+        if self.all_valid || self.grid.mask()[k] {
+            z
+        } else {
+            f64::NAN
+        }
+    }
+
+    /// Row-major index (row 0 north) of lattice node (i, j) (row j from the south), inside.
+    #[inline]
+    fn north_index(&self, i: usize, j: usize) -> usize {
+        (self.geometry.nrows - 1 - j) * self.geometry.ncols + i
+    }
+
+    /// True when cell `index` (row-major, row 0 north) holds data.
+    #[inline]
+    pub fn is_valid(&self, index: usize) -> bool {
+        match self.all_valid {
+            true => index < self.geometry.len(),
+            false => self.grid.mask().get(index).copied().unwrap_or(false),
         }
     }
 
@@ -83,7 +105,7 @@ impl Lattice {
         if i < 0 || j < 0 || i >= n || j >= m {
             return f64::NAN;
         }
-        self.z_south[(j * n + i) as usize]
+        self.z(self.north_index(i as usize, j as usize))
     }
 
     /// Row-major index of the valid cell containing (x, y).
@@ -95,17 +117,14 @@ impl Lattice {
         if !(c >= 0.0 && r_south >= 0.0) || c >= g.ncols as f64 || r_south >= g.nrows as f64 {
             return None;
         }
-        let (c, j) = (c as usize, r_south as usize);
-        self.z_south[j * g.ncols + c]
-            .is_finite()
-            .then(|| (g.nrows - 1 - j) * g.ncols + c)
+        let k = self.north_index(c as usize, r_south as usize);
+        self.z(k).is_finite().then_some(k)
     }
 
     /// DEM value at the centre of cell `index` (row-major, row 0 north), m; NaN for nodata.
     #[inline]
     pub fn cell_z(&self, index: usize) -> f64 {
-        let (row, col) = (index / self.geometry.ncols, index % self.geometry.ncols);
-        self.z_south[(self.geometry.nrows - 1 - row) * self.geometry.ncols + col]
+        self.z(index)
     }
 
     /// Coefficients of patch (i, j), `None` outside the surface or where a corner is nodata.
@@ -115,14 +134,11 @@ impl Lattice {
         if i < 0 || j < 0 || i + 1 >= n || j + 1 >= self.geometry.nrows as i64 {
             return None;
         }
-        let k = (j * n + i) as usize;
-        let n = n as usize;
-        let (z00, z10, z01, z11) = (
-            self.z_south[k],
-            self.z_south[k + 1],
-            self.z_south[k + n],
-            self.z_south[k + n + 1],
-        );
+        // (i, j) and (i + 1, j) on one grid row, (i, j + 1) and (i + 1, j + 1) on the row
+        // north of it
+        let k = self.north_index(i as usize, j as usize);
+        let kn = k - n as usize;
+        let (z00, z10, z01, z11) = (self.z(k), self.z(k + 1), self.z(kn), self.z(kn + 1));
         let c = (z00 - z10 - z01 + z11, z00 + z10 + z01 + z11);
         c.1.is_finite().then_some((z00, z10 - z00, z01 - z00, c.0))
     }
@@ -201,6 +217,11 @@ mod tests {
             }
         }
         assert!(lat.node_z(3, 2).is_nan(), "row 1 from the north is j = 2");
+        assert!(!lat.is_valid(8) && lat.is_valid(9) && !lat.is_valid(20));
         assert_eq!(lat.cell_index(100.5, 207.9), Some(0));
+        assert_eq!(lat.cell_index(106.5, 205.9), None, "the nodata cell");
+        assert_eq!(lat.cell_z(19), dem.grid().get(3, 4).unwrap());
+        // the lattice reads the DEM's own heights: no copy
+        assert!(std::ptr::eq(lat.grid.values(), dem.grid().values()));
     }
 }

@@ -9,7 +9,8 @@
 //! - [`SurfaceMap`]: per-cell surface parameters of seed 000 — the soil type class (0–7,
 //!   mapped to the normal coefficient of restitution r_n as in Rockyfor3D, [`SoilType`]) and
 //!   the obstacle heights of the 70 / 20 / 10 % cover classes (rg70, rg20, rg10, m).
-//! - [`Lattice`]: the same surface in a flat south-up array, for the engines' inner loops.
+//! - [`Lattice`]: the same surface on the south-up lattice of cell centres, for the engines'
+//!   inner loops; it reads the [`Dem`]'s grid in place (shared, not copied).
 //! - [`Terrain`]: both together, checked to share one grid.
 
 mod dem;

@@ -1,0 +1,195 @@
+//! Per-cell surface and net parameters, each distinct set stored once.
+//!
+//! A scenario's surface parameters are constants or rasters of few distinct values (soil type
+//! classes, obstacle-height classes), so the engine keeps a palette of the distinct
+//! [`CellParams`] and one 2-byte index per cell — or nothing per cell when every valid cell
+//! has the same parameters (constant parameters, no nets). Only a scenario with more than
+//! 65 535 distinct sets falls back to one [`CellParams`] (64 bytes) per cell.
+
+use std::collections::HashMap;
+
+use rockfall_scenario::Nets;
+use rockfall_terrain::{Lattice, Terrain};
+
+use crate::LumpedError;
+
+/// Surface and net parameters of one DEM cell.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellParams {
+    /// Normal coefficient of restitution r_n (from the soil type), dimensionless.
+    pub r_n: f64,
+    /// Obstacle heights of the 70 / 20 / 10 % cover classes, m (seed 000 §2.5).
+    pub moh_m: [f64; 3],
+    /// Cover-weighted mean obstacle height, m (seed 000 eq. 4).
+    pub moh_mean_m: f64,
+    /// Number of nets in the cell (0: none).
+    pub nets: u8,
+    /// Energy one net absorbs, J.
+    pub net_energy_j: f64,
+    /// Net height above the ground, m.
+    pub net_height_m: f64,
+}
+
+impl CellParams {
+    /// Parameters of a nodata cell (never used for a rebound).
+    pub(crate) const NONE: CellParams = CellParams {
+        r_n: 0.0,
+        moh_m: [0.0; 3],
+        moh_mean_m: 0.0,
+        nets: 0,
+        net_energy_j: 0.0,
+        net_height_m: 0.0,
+    };
+
+    /// The bits of every field: equal keys, identical parameters.
+    fn key(&self) -> [u64; 8] {
+        [
+            self.r_n.to_bits(),
+            self.moh_m[0].to_bits(),
+            self.moh_m[1].to_bits(),
+            self.moh_m[2].to_bits(),
+            self.moh_mean_m.to_bits(),
+            u64::from(self.nets),
+            self.net_energy_j.to_bits(),
+            self.net_height_m.to_bits(),
+        ]
+    }
+}
+
+/// Most distinct parameter sets a palette holds (its indices are `u16`).
+const PALETTE_MAX: usize = 1 << 16;
+
+/// The parameters of every cell of the DEM; nodata cells read [`CellParams::NONE`].
+#[derive(Debug, Clone)]
+pub(crate) enum CellMap {
+    /// Every valid cell has these parameters.
+    Uniform {
+        params: CellParams,
+        /// The DEM's validity, to answer NONE on nodata cells.
+        lattice: Lattice,
+    },
+    /// `palette[index[cell]]`; `palette[0]` is [`CellParams::NONE`].
+    Palette {
+        palette: Vec<CellParams>,
+        index: Vec<u16>,
+    },
+    /// One entry per cell (more than [`PALETTE_MAX`] distinct sets).
+    Dense(Vec<CellParams>),
+}
+
+impl CellMap {
+    /// The parameters of every valid cell of `lattice` (the DEM of `terrain`) from the
+    /// surface map and the nets. The first valid cell (row-major) whose surface parameters
+    /// are missing is [`LumpedError::MissingSurface`].
+    pub(crate) fn new(
+        terrain: &Terrain,
+        nets: Option<&Nets>,
+        lattice: &Lattice,
+    ) -> Result<CellMap, LumpedError> {
+        let g = *lattice.geometry();
+        let s = &terrain.surface;
+        let constant = nets.is_none()
+            && (s.fields().iter()).all(|(_, f)| matches!(f, rockfall_raster::Field::Const(_)));
+        if constant {
+            // every valid cell reads the same constants: the first one stands for all
+            if let Some(first) = (0..g.len()).find(|&i| lattice.is_valid(i)) {
+                let (row, col) = g.row_col(first);
+                return Ok(CellMap::Uniform {
+                    params: cell_params(terrain, nets, row, col)?,
+                    lattice: lattice.clone(),
+                });
+            }
+        }
+        let mut palette = vec![CellParams::NONE];
+        let mut known: HashMap<[u64; 8], u16> = HashMap::from([(CellParams::NONE.key(), 0)]);
+        let mut index: Vec<u16> = Vec::with_capacity(g.len());
+        let mut last: Option<(CellParams, u16)> = None;
+        for row in 0..g.nrows {
+            for col in 0..g.ncols {
+                let i = g.index(row, col);
+                let params = match lattice.is_valid(i) {
+                    false => CellParams::NONE,
+                    true => cell_params(terrain, nets, row, col)?,
+                };
+                // neighbouring cells mostly share their parameters: skip the hash
+                let slot = match last {
+                    Some((p, slot)) if p.key() == params.key() => slot,
+                    _ => match known.get(&params.key()) {
+                        Some(&slot) => slot,
+                        None if palette.len() < PALETTE_MAX => {
+                            let slot = palette.len() as u16;
+                            known.insert(params.key(), slot);
+                            palette.push(params);
+                            slot
+                        }
+                        None => return dense(terrain, nets, lattice),
+                    },
+                };
+                last = Some((params, slot));
+                index.push(slot);
+            }
+        }
+        Ok(CellMap::Palette { palette, index })
+    }
+
+    /// Parameters of cell `index` (row-major).
+    #[inline]
+    pub(crate) fn get(&self, index: usize) -> &CellParams {
+        match self {
+            CellMap::Uniform { params, lattice } => match lattice.is_valid(index) {
+                true => params,
+                false => &CellParams::NONE,
+            },
+            CellMap::Palette { palette, index: i } => &palette[usize::from(i[index])],
+            CellMap::Dense(cells) => &cells[index],
+        }
+    }
+}
+
+/// One [`CellParams`] per cell.
+fn dense(
+    terrain: &Terrain,
+    nets: Option<&Nets>,
+    lattice: &Lattice,
+) -> Result<CellMap, LumpedError> {
+    let g = *lattice.geometry();
+    let mut cells = Vec::with_capacity(g.len());
+    for row in 0..g.nrows {
+        for col in 0..g.ncols {
+            cells.push(match lattice.is_valid(g.index(row, col)) {
+                false => CellParams::NONE,
+                true => cell_params(terrain, nets, row, col)?,
+            });
+        }
+    }
+    Ok(CellMap::Dense(cells))
+}
+
+/// Parameters of the valid cell (row, col).
+fn cell_params(
+    terrain: &Terrain,
+    nets: Option<&Nets>,
+    row: usize,
+    col: usize,
+) -> Result<CellParams, LumpedError> {
+    let s = terrain
+        .surface
+        .cell(row, col)
+        .ok_or(LumpedError::MissingSurface { row, col })?;
+    let (count, energy_kj, height_m) = match nets {
+        Some(n) => (
+            n.number.at(row, col).unwrap_or(0.0),
+            n.energy_kj.at(row, col).unwrap_or(0.0),
+            n.height_m.at(row, col).unwrap_or(0.0),
+        ),
+        None => (0.0, 0.0, 0.0),
+    };
+    Ok(CellParams {
+        r_n: s.r_n,
+        moh_m: [s.rg70_m, s.rg20_m, s.rg10_m],
+        moh_mean_m: s.mean_obstacle_height_m(),
+        nets: count.clamp(0.0, 255.0).round() as u8,
+        net_energy_j: energy_kj * 1e3,
+        net_height_m: height_m,
+    })
+}
