@@ -225,6 +225,61 @@ pub struct RockRecord {
     pub end: RockEnd,
 }
 
+impl TrajectoryRow {
+    /// The numbers of the row after `rock_id`, in the column order of `trajectories.csv`:
+    /// t, x, y, z, vx, vy, vz, wx, wy, wz, translational and rotational energy.
+    pub(crate) fn values(&self) -> [f64; 12] {
+        [
+            self.t_s,
+            self.x_m,
+            self.y_m,
+            self.z_m,
+            self.vx_ms,
+            self.vy_ms,
+            self.vz_ms,
+            self.wx_rads,
+            self.wy_rads,
+            self.wz_rads,
+            self.e_trans_j,
+            self.e_rot_j,
+        ]
+    }
+
+    /// The row of `rock_id` with `values` as [`TrajectoryRow::values`] gives them.
+    pub(crate) fn from_values(rock_id: u64, values: [f64; 12], event: Event) -> TrajectoryRow {
+        let [
+            t_s,
+            x_m,
+            y_m,
+            z_m,
+            vx_ms,
+            vy_ms,
+            vz_ms,
+            wx_rads,
+            wy_rads,
+            wz_rads,
+            e_trans_j,
+            e_rot_j,
+        ] = values;
+        TrajectoryRow {
+            rock_id,
+            t_s,
+            x_m,
+            y_m,
+            z_m,
+            vx_ms,
+            vy_ms,
+            vz_ms,
+            wx_rads,
+            wy_rads,
+            wz_rads,
+            e_trans_j,
+            e_rot_j,
+            event,
+        }
+    }
+}
+
 /// What a trajectory row records (`trajectories.csv` column `event`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Event {

@@ -470,20 +470,7 @@ const EVENTS: [Event; 5] = [
 
 fn trajectory_row(e: &mut Enc, r: &TrajectoryRow) {
     e.u64(r.rock_id);
-    for v in [
-        r.t_s,
-        r.x_m,
-        r.y_m,
-        r.z_m,
-        r.vx_ms,
-        r.vy_ms,
-        r.vz_ms,
-        r.wx_rads,
-        r.wy_rads,
-        r.wz_rads,
-        r.e_trans_j,
-        r.e_rot_j,
-    ] {
+    for v in r.values() {
         e.f64(v);
     }
     e.u8(EVENTS.iter().position(|&k| k == r.event).unwrap_or(0) as u8);
@@ -498,36 +485,7 @@ fn read_trajectory_row(d: &mut Dec<'_>) -> Result<TrajectoryRow, DecodeError> {
     let at = d.pos();
     let k = d.u8()?;
     let event = *(EVENTS.get(k as usize)).ok_or_else(|| d.corrupt(at, format!("event {k}")))?;
-    let [
-        t_s,
-        x_m,
-        y_m,
-        z_m,
-        vx_ms,
-        vy_ms,
-        vz_ms,
-        wx_rads,
-        wy_rads,
-        wz_rads,
-        e_trans_j,
-        e_rot_j,
-    ] = v;
-    Ok(TrajectoryRow {
-        rock_id,
-        t_s,
-        x_m,
-        y_m,
-        z_m,
-        vx_ms,
-        vy_ms,
-        vz_ms,
-        wx_rads,
-        wy_rads,
-        wz_rads,
-        e_trans_j,
-        e_rot_j,
-        event,
-    })
+    Ok(TrajectoryRow::from_values(rock_id, v, event))
 }
 
 fn rock_record(e: &mut Enc, r: &RockRecord) {

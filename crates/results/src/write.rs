@@ -117,24 +117,11 @@ fn write_csv<T>(
 /// that reads back to the same `f64`.
 pub(crate) fn write_trajectories(path: &Path, rows: &[TrajectoryRow]) -> Result<(), ResultsError> {
     write_csv(path, TRAJECTORY_HEADER, rows, |w, r| {
-        writeln!(
-            w,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            r.rock_id,
-            r.t_s,
-            r.x_m,
-            r.y_m,
-            r.z_m,
-            r.vx_ms,
-            r.vy_ms,
-            r.vz_ms,
-            r.wx_rads,
-            r.wy_rads,
-            r.wz_rads,
-            r.e_trans_j,
-            r.e_rot_j,
-            r.event.name()
-        )
+        write!(w, "{}", r.rock_id)?;
+        for v in r.values() {
+            write!(w, ",{v}")?;
+        }
+        writeln!(w, ",{}", r.event.name())
     })
 }
 
