@@ -200,6 +200,16 @@ pub fn merge(
     input: Option<&Path>,
     ascii: bool,
 ) -> Result<(), Failure> {
+    let same = |d: &Path| match (d.canonicalize(), out.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if let Some(d) = dirs.iter().find(|d| same(d)) {
+        return Err(Failure::BadInput(anyhow!(
+            "{}: --out is one of the folders merged; write the merge into a folder of its own",
+            d.display()
+        )));
+    }
     let mut parts = Vec::with_capacity(dirs.len());
     for d in dirs {
         let path = d.join(TALLY_FILE);

@@ -123,6 +123,10 @@ fn partitions_merge_into_the_single_run_byte_for_byte() {
         rockfall(&["merge", s(&p1), s(&p2), s(&p3), "--out", s(&m)]),
         &["p2", "damaged"],
     );
+    bad_input(
+        rockfall(&["merge", s(&p1), s(&p3), "--out", s(&p3)]),
+        &["folder of its own"],
+    );
     assert!(
         !m.join("summary.json").exists(),
         "nothing written by a refused merge"
