@@ -103,7 +103,7 @@ impl Rock<'_, '_, '_> {
     /// ([`crate::roll`]), and the rebound is not taken.
     fn rebound(&mut self, rolling: bool) -> Option<Outcome> {
         let ground = self.world.ground;
-        let Some(s) = ground.surface(self.p.x, self.p.y) else {
+        let Some(s) = self.memo.surface(ground, self.p.x, self.p.y) else {
             return Some(Outcome::LeftDem);
         };
         let Some(cell) = ground.cell_index(self.p.x, self.p.y) else {
@@ -111,7 +111,7 @@ impl Rock<'_, '_, '_> {
         };
         let n_true = s.normal_v3();
         let r = self.body.radius_m;
-        let rest_z = ground.centre_z_m(self.p.x, self.p.y, r).unwrap_or(self.p.z);
+        let rest_z = (self.memo.centre_z_m(ground, self.p.x, self.p.y, r)).unwrap_or(self.p.z);
         self.put_on_ground(rest_z);
         self.grounded = true;
         let settings = self.world.settings;
@@ -186,9 +186,7 @@ impl Rock<'_, '_, '_> {
             return Some(Outcome::LeftDem);
         };
         let moh = ground.cell(cell).moh_mean_m;
-        let n = ground
-            .surface(self.p.x, self.p.y)
-            .map_or(V3::Z, |s| s.normal_v3());
+        let n = (self.memo.surface(ground, self.p.x, self.p.y)).map_or(V3::Z, |s| s.normal_v3());
         if self.moved
             && moh > 0.0
             && self.last_rebound_cell != Some(cell)
@@ -214,7 +212,7 @@ impl Rock<'_, '_, '_> {
         };
         // a take-off is confirmed on ever shorter steps, so the rock rolls up to the break
         let step = loop {
-            let step = roll_step(ground, &self.body, self.p, self.v, &input);
+            let step = roll_step(ground, &mut self.memo, &self.body, self.p, self.v, &input);
             if step != RollStep::Fly || input.dt_cap_s < ROLL_DT_MIN_S {
                 break step;
             }
@@ -239,10 +237,11 @@ impl Rock<'_, '_, '_> {
         };
         let (_, cut) = self.advance(&seg, dt);
         self.moved = true;
-        let surface = ground.surface(self.p.x, self.p.y);
+        let surface = self.memo.surface(ground, self.p.x, self.p.y);
         let n = surface.map(|s| s.normal_v3());
         self.w = n.map_or(V3::ZERO, |n| rolling_spin(self.v, n, self.body.radius_m));
-        if let Some(z) = ground.centre_z_m(self.p.x, self.p.y, self.body.radius_m) {
+        let r = self.body.radius_m;
+        if let Some(z) = self.memo.centre_z_m(ground, self.p.x, self.p.y, r) {
             // a step cut short lies on the chord: put the rock back on the ground
             self.put_on_ground(z);
         }

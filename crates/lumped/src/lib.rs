@@ -23,6 +23,7 @@ mod cells;
 pub mod contact;
 pub mod forestry;
 pub mod ground;
+pub mod memo;
 mod obstacles;
 pub mod rebound;
 mod recorder;

@@ -31,6 +31,7 @@
 use crate::body::RockBody;
 use crate::ground::Ground;
 use crate::ground::SurfNormal;
+use crate::memo::PointMemo;
 use crate::vec3::V3Ext;
 use crate::{G_MS2, V3};
 
@@ -91,7 +92,14 @@ pub fn friction_coefficient(moh_mean_m: f64, radius_m: f64) -> f64 {
 }
 
 /// One rolling step from centre `p` (R from the ground along the normal) with velocity `v` (tangent).
-pub fn roll_step(ground: &Ground, body: &RockBody, p: V3, v: V3, input: &RollInput) -> RollStep {
+pub fn roll_step(
+    ground: &Ground,
+    memo: &mut PointMemo,
+    body: &RockBody,
+    p: V3,
+    v: V3,
+    input: &RollInput,
+) -> RollStep {
     let RollInput {
         mu_r,
         stop_ms,
@@ -100,7 +108,7 @@ pub fn roll_step(ground: &Ground, body: &RockBody, p: V3, v: V3, input: &RollInp
         allow_fly,
     } = *input;
     let r = body.radius_m;
-    let Some(s0) = ground.surface(p.x, p.y) else {
+    let Some(s0) = memo.surface(ground, p.x, p.y) else {
         return RollStep::Exit;
     };
     let n0 = s0.normal_v3();
@@ -123,11 +131,11 @@ pub fn roll_step(ground: &Ground, body: &RockBody, p: V3, v: V3, input: &RollInp
     let v_pred = v + a * dt;
     let step = (v + v_pred) * (0.5 * dt);
     let (x1, y1) = (p.x + step.x, p.y + step.y);
-    let Some(s1) = ground.surface(x1, y1) else {
+    let Some(s1) = memo.surface(ground, x1, y1) else {
         return RollStep::Exit;
     };
     let n1 = s1.normal_v3();
-    let rest1 = ground.centre_z_m(x1, y1, r).unwrap_or(s1.z_m + r);
+    let rest1 = memo.centre_z_m(ground, x1, y1, r).unwrap_or(s1.z_m + r);
     // free parabola over the same horizontal step: above the ground → the rock flies
     let z_free = p.z + v.z * dt - 0.5 * G_MS2 * dt * dt;
     if allow_fly && speed > 1e-9 && z_free > rest1 + 1e-9 {
@@ -142,7 +150,7 @@ pub fn roll_step(ground: &Ground, body: &RockBody, p: V3, v: V3, input: &RollInp
         // the energy runs out within the step: stop where it does (linear in the path)
         let f = (speed * speed / (speed * speed - v2)).clamp(0.0, 1.0);
         let (xs, ys) = (p.x + f * step.x, p.y + f * step.y);
-        let zs = ground.centre_z_m(xs, ys, r).unwrap_or(p1.z);
+        let zs = memo.centre_z_m(ground, xs, ys, r).unwrap_or(p1.z);
         return RollStep::Stopped {
             p: V3::new(xs, ys, zs),
             dt_s: dt * f.max(1e-9),

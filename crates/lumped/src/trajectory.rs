@@ -10,6 +10,7 @@ use crate::V3;
 use crate::body::RockBody;
 use crate::forestry::Trees;
 use crate::ground::Ground;
+use crate::memo::PointMemo;
 use crate::segment::Seg;
 use crate::vec3::V3Ext;
 use rockfall_results::{CellVisit, Event, Outcome, RockEnd, RockStart, ScreenSet, Tally};
@@ -90,6 +91,8 @@ pub(crate) struct Rock<'w, 'a, 't> {
     pub(crate) impacts: u32,
     pub(crate) broken: u32,
     pub(crate) rebounds: u32,
+    /// The ground at the last point asked about (rolling steps ask several times).
+    pub(crate) memo: PointMemo,
 }
 
 /// Simulates one rock and reports it to `tally`.
@@ -133,6 +136,7 @@ pub fn simulate(
         impacts: 0,
         broken: 0,
         rebounds: 0,
+        memo: PointMemo::default(),
     };
     rock.run();
 }

@@ -378,3 +378,36 @@ proptest! {
         }
     }
 }
+
+/// The memo of the last point gives the ground's own answers, bit for bit, whatever the
+/// order of the questions: a new point, the same point again, another radius, back again.
+#[test]
+fn the_point_memo_answers_as_the_ground() {
+    use rockfall_lumped::memo::PointMemo;
+    let t = terrain(12, 9, 2.0, |x, y| 0.3 * x + 0.05 * y * y - (0.7 * x).sin());
+    let g = ground(&t);
+    let mut memo = PointMemo::default();
+    let bits = |s: Option<rockfall_lumped::ground::Surf>| {
+        s.map(|s| [s.z_m, s.dzdx, s.dzdy].map(f64::to_bits))
+    };
+    let z = |v: Option<f64>| v.map(f64::to_bits);
+    let points = [
+        (3.1, 4.2),
+        (3.1, 4.2),
+        (7.9, 2.5),
+        (3.1, 4.2),
+        (-5.0, 1.0),
+        (3.1, 4.2000001),
+    ];
+    for (k, &(x, y)) in points.iter().enumerate() {
+        for r in [0.4, 0.4, 1.1, 0.4] {
+            assert_eq!(
+                z(memo.centre_z_m(&g, x, y, r)),
+                z(g.centre_z_m(x, y, r)),
+                "{k} {r}"
+            );
+            assert_eq!(bits(memo.surface(&g, x, y)), bits(g.surface(x, y)), "{k}");
+        }
+    }
+    assert!(memo.surface(&g, -5.0, 1.0).is_none());
+}
