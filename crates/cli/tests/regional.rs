@@ -229,9 +229,81 @@ fn a_run_until_stable_killed_midway_resumes_to_the_same_end() {
         rockfall(&["merge", s(&killed), "--out", s(&t.join("m"))]),
         &["--resume"],
     );
+    // an input changed since the run started is refused, naming the change
+    let text = std::fs::read_to_string(&scenario).unwrap();
+    std::fs::write(
+        &scenario,
+        text.replace("max_time_s = 600", "max_time_s = 599"),
+    )
+    .unwrap();
+    bad_input(
+        rockfall(&["run", "--resume", s(&killed)]),
+        &["input changed", "fingerprint"],
+    );
+    std::fs::write(&scenario, &text).unwrap();
     let out = ok(rockfall(&["run", "--resume", s(&killed), "--threads", "1"]));
     assert!(out.contains("resuming"), "{out}");
     same_outputs(&whole, &killed);
     assert!(!killed.join("checkpoint.tally").exists());
     bad_input(rockfall(&["run", "--resume", s(&killed)]), &["complete"]);
+}
+
+#[test]
+fn a_new_share_in_an_old_folder_removes_the_old_tallies_and_merge_finds_a_moved_input() {
+    let (tmp, scenario) = site2();
+    let t = tmp.path();
+    let run = |i: u32, out: &Path| {
+        let p = format!("{i}/2");
+        ok(rockfall(&[
+            "run",
+            s(&scenario),
+            "--out",
+            s(out),
+            "--rocks-per-cell",
+            "200",
+            "--partition",
+            &p,
+        ]))
+    };
+    let (p1, p2) = (t.join("p1"), t.join("p2"));
+    run(1, &p1);
+    run(2, &p2);
+    // share 2 started again in p1 and killed: p1's old share-1 tallies are gone
+    let args = [
+        "run",
+        s(&scenario),
+        "--out",
+        s(&p1),
+        "--rocks-per-cell",
+        "1000000",
+        "--partition",
+        "2/2",
+    ];
+    kill_once(&args, &p1.join("checkpoint.tally"));
+    assert!(!p1.join("rockfall.tally").exists());
+    bad_input(
+        rockfall(&["merge", s(&p1), s(&p2), "--out", s(&t.join("m"))]),
+        &["--resume"],
+    );
+    run(1, &p1);
+    // the input moved: merge writes the maps without the report, or with it given --input
+    let moved = t.join("moved");
+    std::fs::rename(scenario.parent().unwrap(), &moved).unwrap();
+    let m = t.join("m");
+    let out = ok(rockfall(&["merge", s(&p1), s(&p2), "--out", s(&m)]));
+    assert!(out.contains("without the report"), "{out}");
+    assert!(m.join("E_95.tif").exists() && !m.join("report.html").exists());
+    let m2 = t.join("m2");
+    let given = moved.join("scenario.toml");
+    ok(rockfall(&[
+        "merge",
+        s(&p1),
+        s(&p2),
+        "--out",
+        s(&m2),
+        "--input",
+        s(&given),
+    ]));
+    assert!(m2.join("report.html").exists());
+    same_outputs(&m, &m2);
 }

@@ -162,3 +162,54 @@ pub struct ConvergenceSummary {
     /// Every comparison between successive batches, in order.
     pub history: Vec<MapChange>,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn snap(rocks: u64, cells: &[(usize, f64, Option<f64>)]) -> MapSnapshot {
+        MapSnapshot {
+            rocks,
+            cells: cells.to_vec(),
+        }
+    }
+
+    #[test]
+    fn the_change_counts_cells_of_either_snapshot_above_the_threshold() {
+        let old = snap(
+            100,
+            &[
+                (1, 0.5, None),
+                (2, 10.0, Some(100.0)),
+                (3, 3.0, None),
+                (5, 2.0, None),
+                (7, 0.2, Some(1.0)),
+            ],
+        );
+        let new = snap(
+            200,
+            &[
+                (1, 2.0, None),
+                (2, 12.0, Some(80.0)),
+                (5, 0.5, None),
+                (7, 0.9, Some(50.0)),
+            ],
+        );
+        let c = MapChange::between(&old, &new);
+        // 1 rose above 1 %, 2 is reached, 3 is only in the old maps, 5 fell below 1 %; 7 is
+        // below 1 % in both and left out (its E_95 would dominate)
+        assert_eq!(c.cells, 4);
+        assert_eq!(c.rocks, 200);
+        assert_eq!(c.reach_change_pp, 3.0);
+        // the E_95 map: |80 − 100| / 80
+        assert_eq!(c.e_95_change_pct, 25.0);
+        // the largest cell change: 20 / max(100, 80)
+        assert_eq!(c.e_95_max_cell_change_pct, 20.0);
+        assert_eq!(c.largest(), (25.0, "E_95"));
+        let calm = MapChange::between(&new, &new);
+        assert_eq!((calm.reach_change_pp, calm.e_95_change_pct), (0.0, 0.0));
+        assert_eq!(calm.largest(), (0.0, "Reach_probability"));
+        let reach = MapChange::between(&snap(1, &[(4, 50.0, None)]), &snap(2, &[(4, 40.0, None)]));
+        assert_eq!(reach.largest(), (10.0, "Reach_probability"));
+    }
+}

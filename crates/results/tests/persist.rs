@@ -74,6 +74,50 @@ fn a_file_is_the_same_whatever_the_merge_order_and_reads_back_what_was_written()
     assert_eq!(saved.tally.rocks(), ROCKS);
     // written again, the same bytes
     assert!(encode_tally(&saved.tally, &saved.info, &7u32).unwrap() == a);
+    // with rock records kept: they are written sorted too
+    let mut keeping = (*l).clone();
+    keeping.rock_ends = true;
+    let k = Arc::new(keeping);
+    let one = tally_of(&k, 0..ROCKS);
+    let mut two = tally_of(&k, (0..ROCKS).rev().filter(|i| i % 3 == 1));
+    two.merge(tally_of(&k, (0..ROCKS).rev().filter(|i| i % 3 != 1)));
+    let (a, b) = (
+        encode_tally(&one, &info(), &7u32).unwrap(),
+        encode_tally(&two, &info(), &7u32).unwrap(),
+    );
+    assert!(a == b, "rock records in merge order");
+}
+
+/// `bytes` with a valid closing checksum again: a file damaged by hand that only the
+/// structural checks can refuse.
+fn resign(mut bytes: Vec<u8>) -> Vec<u8> {
+    let n = bytes.len() - 8;
+    let mut h = rockfall_results::Fnv1a::default();
+    h.bytes(&bytes[..n]);
+    bytes[n..].copy_from_slice(&h.0.to_le_bytes());
+    bytes
+}
+
+#[test]
+fn every_damaged_byte_and_trailing_bytes_are_refused() {
+    let t = tally_of(&layout(), 0..3);
+    let good = encode_tally(&t, &info(), &"r").unwrap();
+    let path = Path::new("t.tally");
+    for k in 0..good.len() {
+        let mut bad = good.clone();
+        bad[k] ^= 0x01;
+        assert!(
+            decode_tally::<String>(&bad, path).is_err(),
+            "byte {k} of {}",
+            good.len()
+        );
+    }
+    // bytes after the body, correctly signed: refused all the same
+    let mut longer = good[..good.len() - 8].to_vec();
+    longer.extend_from_slice(&[0; 8]);
+    longer.extend_from_slice(&[0; 8]);
+    let e = decode_tally::<String>(&resign(longer), path).unwrap_err();
+    assert!(e.to_string().contains("past the end"), "{e}");
 }
 
 #[test]

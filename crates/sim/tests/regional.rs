@@ -122,8 +122,14 @@ fn merged_partitions_equal_the_single_run_bit_for_bit() {
             })
             .rev()
             .collect();
+        let walls: f64 = parts.iter().map(|p| p.1.info.wall_time_s).sum();
         let merged = share::merge(parts).unwrap();
         assert_eq!(merged.record.rocks, vec![[0, 240]]);
+        assert_eq!(merged.record.batch.wanted, vec![[0, 240]]);
+        assert_eq!(merged.record.partition, None);
+        assert!(merged.record.complete);
+        assert_eq!(merged.info.threads, 2, "the most threads of a share");
+        assert_eq!(merged.info.wall_time_s, walls);
         let r = Results::new(&merged.tally.layout().clone(), merged.tally, merged.info);
         assert_eq!(everything(&r), everything(&single), "{n} partitions");
     }
@@ -204,6 +210,28 @@ fn a_merge_of_different_runs_or_incomplete_shares_is_refused_naming_the_differen
     let e = share::merge(vec![part(&s, 1, 2, "a"), first.unwrap()]).unwrap_err();
     assert!(matches!(e, MergeError::Unfinished { .. }), "{e}");
     assert!(e.to_string().contains("--resume"), "{e}");
+
+    // each of the three checks of a finished share on its own
+    let unfinished = |edit: &dyn Fn(&mut SavedTally<RunRecord>)| {
+        let mut b = part(&s, 2, 2, "b");
+        edit(&mut b.1);
+        let e = share::merge(vec![part(&s, 1, 2, "a"), b]).unwrap_err();
+        assert!(matches!(e, MergeError::Unfinished { .. }), "{e}");
+    };
+    unfinished(&|b| b.run.complete = false);
+    unfinished(&|b| b.tally = part(&s, 1, 3, "x").1.tally);
+    unfinished(&|b| b.run.rocks[0][1] -= 1);
+
+    // a convergence run is whole: not a share to merge
+    let mut c = s.clone();
+    c.simulation.until_stable_pct = Some(5.0);
+    let conv = sim(&c, 2);
+    let f = finish(&conv, RunRecord::new(conv.scenario(), "x"));
+    let e = share::merge(vec![saved(f, "conv")]).unwrap_err();
+    assert!(
+        matches!(e, MergeError::Different { ref what, .. } if what.contains("convergence")),
+        "{e}"
+    );
 }
 
 /// The summary's `convergence` and everything else of a run until stable at `tol` %.
@@ -241,12 +269,14 @@ fn convergence_stops_at_the_same_rocks_whatever_the_threads_and_is_a_plain_run_o
         assert!(x == y, "{name}");
     }
     // a tighter tolerance needs at least as many rocks; a low cap stops the run
-    let tight = converge(&s, 1.0, 2).summary().convergence.unwrap();
-    assert!(tight.rocks >= c.rocks.min(n));
+    s.simulation.rocks_per_cell = 100_000;
+    let tight = converge(&s, 2.5, 2).summary().convergence.unwrap();
+    assert!(tight.rocks >= c.rocks && !tight.cap_hit, "{tight:?}");
     let mut capped = s.clone();
     capped.simulation.rocks_per_cell = 30;
     let k = converge(&capped, 0.5, 2).summary().convergence.unwrap();
     assert!(k.cap_hit && k.rocks == 30 && k.batches == 3, "{k:?}");
+    assert_eq!(k.rocks_per_cell, 30);
 }
 
 #[test]
@@ -284,5 +314,44 @@ fn an_interrupted_run_continues_to_the_same_end() {
             .unwrap();
         assert!(resumed.record.batch.batches > 3);
         assert_eq!(everything(&results(resumed)), everything(&whole), "{tol:?}");
+    }
+}
+
+#[test]
+fn the_fingerprint_follows_what_shapes_the_results_not_where_it_was_read() {
+    let s = site(10);
+    let f = share::fingerprint(&s);
+    assert_eq!(f.len(), 16);
+    let mut moved = s.clone();
+    moved
+        .sources
+        .insert("dem".into(), PathBuf::from("/elsewhere/dem.tif"));
+    moved.notes.push("read from a copy".into());
+    assert_eq!(share::fingerprint(&moved), f);
+    type Edit<'a> = (&'a str, &'a dyn Fn(&mut Scenario));
+    let edits: [Edit; 7] = [
+        ("dem", &|s| {
+            let mut grid = s.terrain.dem.grid().clone();
+            let v = grid.get(3, 4).unwrap();
+            grid.set(3, 4, v + 1.0);
+            s.terrain = rockfall_terrain::Terrain::new(
+                rockfall_terrain::Dem::new(grid).unwrap(),
+                s.terrain.surface.clone(),
+            )
+            .unwrap();
+        }),
+        ("seed", &|s| s.seed += 1),
+        ("rock", &|s| {
+            s.rock.density_kg_m3 = rockfall_raster::Field::Const(2000.0)
+        }),
+        ("release", &|s| s.release.points[0].height_m += 0.1),
+        ("screens", &|s| s.screens.truncate(1)),
+        ("rocks", &|s| s.simulation.rocks_per_point += 1),
+        ("lumped", &|s| s.lumped.rt_variation *= 0.5),
+    ];
+    for (what, edit) in edits {
+        let mut e = s.clone();
+        edit(&mut e);
+        assert_ne!(share::fingerprint(&e), f, "{what}");
     }
 }

@@ -150,7 +150,7 @@ pub fn simulate_rock(tally: &mut Tally, rock_id: u64) {
         stems_broken: r.below(2) as u32,
         rebounds: r.below(9) as u32,
         time_s: t,
-        events: 0,
+        events: r.below(50) as u32,
     });
 }
 
