@@ -75,12 +75,22 @@ impl Simulation {
         checkpoint: &mut dyn FnMut(&Tally, &RunInfo, &RunRecord) -> Result<(), String>,
     ) -> Result<Finished, SimError> {
         let releases = Releases::of(self.scenario());
+        let started = std::time::Instant::now();
+        // the engine is built once for every batch of this process
+        let prepared = self.prepare()?;
+        // counted once, with this process's first batch
+        let mut preparing_s = started.elapsed().as_secs_f64();
         let mut acc: Option<(Tally, RunInfo)> = saved;
         let mut previous = acc.as_ref().map(|(t, _)| MapSnapshot::of(t));
         while let Some(rocks) = next_batch(&record, &releases) {
             let batch = record.batch.batches + 1;
-            let (tally, info) =
-                self.run_rocks(&rocks, &format!("{label} batch {batch}"), observer)?;
+            let (tally, mut info) = self.run_prepared(
+                &prepared,
+                &rocks,
+                &format!("{label} batch {batch}"),
+                observer,
+            )?;
+            info.wall_time_s += std::mem::take(&mut preparing_s);
             let (t, mut i) = match acc.take() {
                 None => (tally, info),
                 Some((mut t, mut i)) => {
@@ -113,7 +123,7 @@ impl Simulation {
         // a share of no rock (more shares than rocks) still records the run's parameters
         let (tally, mut info) = match acc {
             Some(done) => done,
-            None => self.run_rocks(&RockSet::default(), label, observer)?,
+            None => self.run_prepared(&prepared, &RockSet::default(), label, observer)?,
         };
         info.threads = self.threads();
         record.complete = true;

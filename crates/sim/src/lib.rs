@@ -237,13 +237,34 @@ impl Simulation {
         label: &str,
         observer: &dyn Observer,
     ) -> Result<(Tally, RunInfo), SimError> {
+        let started = Instant::now();
+        let prepared = self.prepare()?;
+        let (tally, mut info) = self.run_prepared(&prepared, rocks, label, observer)?;
+        info.wall_time_s = started.elapsed().as_secs_f64();
+        Ok((tally, info))
+    }
+
+    /// The engine prepared once (with the forest), for runs of several rock sets.
+    pub fn prepare(&self) -> Result<Prepared<'_>, SimError> {
+        Prepared::new(&self.scenario, self.stems())
+    }
+
+    /// As [`Simulation::run_rocks`], on an engine already prepared by
+    /// [`Simulation::prepare`] (its wall time that of the rocks alone).
+    pub fn run_prepared(
+        &self,
+        prepared: &Prepared<'_>,
+        rocks: &RockSet,
+        label: &str,
+        observer: &dyn Observer,
+    ) -> Result<(Tally, RunInfo), SimError> {
         observer.started(label, rocks.below(self.rocks()).len());
         let advanced = |n: u64| observer.advanced(n);
         let opts = RunOptions {
             threads: self.threads,
             progress: Some(&advanced),
         };
-        let out = run_tally(&self.scenario, self.stems(), Some(rocks), &opts)?;
+        let out = prepared.run(Some(rocks), &opts)?;
         observer.ended(label);
         Ok(out)
     }
@@ -259,7 +280,7 @@ impl Simulation {
             threads: self.threads,
             progress: None,
         };
-        Ok(tally(&self.scenario, self.stems(), layout, Some(rocks), &opts)?.0)
+        Prepared::new(&self.scenario, self.stems())?.tally_on(layout, Some(rocks), &opts)
     }
 }
 
@@ -310,53 +331,92 @@ pub fn run_tally(
     rocks: Option<&RockSet>,
     opts: &RunOptions<'_>,
 ) -> Result<(Tally, RunInfo), SimError> {
-    let layout = Arc::new(Layout::of(scenario));
     let started = Instant::now();
-    let (tally, parameters) = tally(scenario, forest, &layout, rocks, opts)?;
-    let info = RunInfo {
-        engine: scenario.engine.to_string(),
-        scenario: scenario.name.clone(),
-        seed: scenario.seed,
-        threads: opts.threads,
-        wall_time_s: started.elapsed().as_secs_f64(),
-        parameters,
-    };
+    let prepared = Prepared::new(scenario, forest)?;
+    let (tally, mut info) = prepared.run(rocks, opts)?;
+    info.wall_time_s = started.elapsed().as_secs_f64();
     Ok((tally, info))
 }
 
-/// The tally of `rocks` (none: all) of `scenario` with `forest` on `layout`, and the engine
-/// parameters of the run.
-fn tally(
-    scenario: &Scenario,
-    forest: Option<&Forest>,
-    layout: &Arc<Layout>,
-    rocks: Option<&RockSet>,
-    opts: &RunOptions<'_>,
-) -> Result<(Tally, Parameters), SimError> {
-    match scenario.engine {
-        EngineKind::Lumped => {
-            let bad = |e: rockfall_lumped::LumpedError| {
-                SimError::engine(scenario, &e, &["rockdensity", "dem"])
-            };
-            let model = LumpedModel::new(scenario, forest).map_err(bad)?;
-            let plan = Plan::new(model, scenario).map_err(bad)?;
-            let tally = run_plan(&plan, layout, rocks, opts)?;
-            Ok((
-                tally,
-                Parameters::Lumped(parameters::lumped(scenario, &plan)),
-            ))
-        }
-        EngineKind::Rigid => {
-            let bad = |e: rockfall_rigid::RigidError| {
-                SimError::engine(scenario, &e, &["rock.shape", "dem"])
-            };
-            let model = RigidModel::new(scenario, forest).map_err(bad)?;
-            let plan = Plan::new(model, scenario).map_err(bad)?;
-            let tally = run_plan(&plan, layout, rocks, opts)?;
-            Ok((
-                tally,
-                Parameters::Rigid(parameters::rigid(scenario, plan.engine())),
-            ))
+/// A scenario's engine prepared once (terrain, forest, launches of its releases): it runs any
+/// set of the scenario's rocks, batch after batch, without being built again.
+pub struct Prepared<'a> {
+    plan: PreparedPlan<'a>,
+    layout: Arc<Layout>,
+    info: RunInfo,
+}
+
+enum PreparedPlan<'a> {
+    Lumped(Plan<LumpedModel<'a>>),
+    Rigid(Plan<RigidModel<'a>>),
+}
+
+impl<'a> Prepared<'a> {
+    /// The engine of `scenario` (validated, overrides applied) with `forest` (none: without
+    /// trees), its releases launched, and the parameters its runs record.
+    pub fn new(scenario: &'a Scenario, forest: Option<&'a Forest>) -> Result<Self, SimError> {
+        let (plan, parameters) = match scenario.engine {
+            EngineKind::Lumped => {
+                let bad = |e: rockfall_lumped::LumpedError| {
+                    SimError::engine(scenario, &e, &["rockdensity", "dem"])
+                };
+                let model = LumpedModel::new(scenario, forest).map_err(bad)?;
+                let plan = Plan::new(model, scenario).map_err(bad)?;
+                let parameters = Parameters::Lumped(parameters::lumped(scenario, &plan));
+                (PreparedPlan::Lumped(plan), parameters)
+            }
+            EngineKind::Rigid => {
+                let bad = |e: rockfall_rigid::RigidError| {
+                    SimError::engine(scenario, &e, &["rock.shape", "dem"])
+                };
+                let model = RigidModel::new(scenario, forest).map_err(bad)?;
+                let plan = Plan::new(model, scenario).map_err(bad)?;
+                let parameters = Parameters::Rigid(parameters::rigid(scenario, plan.engine()));
+                (PreparedPlan::Rigid(plan), parameters)
+            }
+        };
+        let info = RunInfo {
+            engine: scenario.engine.to_string(),
+            scenario: scenario.name.clone(),
+            seed: scenario.seed,
+            threads: 0,
+            wall_time_s: 0.0,
+            parameters,
+        };
+        Ok(Prepared {
+            plan,
+            layout: Arc::new(Layout::of(scenario)),
+            info,
+        })
+    }
+
+    /// The tally of `rocks` (none: all) on `opts.threads` workers, and the run's
+    /// [`RunInfo`] (its wall time that of the rocks alone).
+    pub fn run(
+        &self,
+        rocks: Option<&RockSet>,
+        opts: &RunOptions<'_>,
+    ) -> Result<(Tally, RunInfo), SimError> {
+        let started = Instant::now();
+        let tally = self.tally_on(&self.layout, rocks, opts)?;
+        let info = RunInfo {
+            threads: opts.threads,
+            wall_time_s: started.elapsed().as_secs_f64(),
+            ..self.info.clone()
+        };
+        Ok((tally, info))
+    }
+
+    /// The tally of `rocks` (none: all) on `layout` (the scenario's).
+    fn tally_on(
+        &self,
+        layout: &Arc<Layout>,
+        rocks: Option<&RockSet>,
+        opts: &RunOptions<'_>,
+    ) -> Result<Tally, SimError> {
+        match &self.plan {
+            PreparedPlan::Lumped(plan) => run_plan(plan, layout, rocks, opts),
+            PreparedPlan::Rigid(plan) => run_plan(plan, layout, rocks, opts),
         }
     }
 }
