@@ -87,25 +87,16 @@ impl MapChange {
         };
         let (mut moved, mut total) = (0.0, 0.0);
         let (mut i, mut j) = (0, 0);
-        loop {
-            let a = old.cells.get(i);
-            let b = new.cells.get(j);
-            let (reach_a, reach_b, e_a, e_b) = match (a, b) {
-                (None, None) => break,
-                (Some(a), Some(b)) if a.0 == b.0 => {
-                    (i, j) = (i + 1, j + 1);
-                    (a.1, b.1, a.2, b.2)
-                }
-                (Some(a), b) if b.is_none_or(|b| a.0 < b.0) => {
-                    i += 1;
-                    (a.1, 0.0, None, None)
-                }
-                (_, Some(b)) => {
-                    j += 1;
-                    (0.0, b.1, None, None)
-                }
-                (Some(_), None) => unreachable!("handled by the arm above"),
-            };
+        while i < old.cells.len() || j < new.cells.len() {
+            // walk both sorted lists at once: a cell missing from one has reach 0 there
+            let key = |c: Option<&(usize, f64, Option<f64>)>| c.map_or(usize::MAX, |c| c.0);
+            let (a, b) = (old.cells.get(i), new.cells.get(j));
+            let (in_a, in_b) = (key(a) <= key(b), key(b) <= key(a));
+            let (a, b) = (a.filter(|_| in_a), b.filter(|_| in_b));
+            i += usize::from(in_a);
+            j += usize::from(in_b);
+            let (reach_a, reach_b) = (a.map_or(0.0, |c| c.1), b.map_or(0.0, |c| c.1));
+            let (e_a, e_b) = (a.and_then(|c| c.2), b.and_then(|c| c.2));
             if reach_a.max(reach_b) < MIN_REACH_PCT {
                 continue;
             }
