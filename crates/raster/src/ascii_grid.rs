@@ -19,7 +19,7 @@
 
 use crate::atomic::write_atomic;
 use crate::rows::try_for_each_row;
-use crate::{Crs, Grid, GridGeometry, RasterError, Rows};
+use crate::{Crs, Grid, GridGeometry, RasterError, Rows, SampleType};
 use std::io::{BufRead, Write};
 use std::path::{Path, PathBuf};
 
@@ -291,30 +291,44 @@ pub fn write(path: &Path, grid: &Grid<f64>) -> Result<(), RasterError> {
 /// [`write`] of a raster given row by row: one pass to check the values and count nodata
 /// cells, one to write, one row in memory.
 pub fn write_rows(path: &Path, rows: &impl Rows) -> Result<(), RasterError> {
+    write_rows_as(path, rows, SampleType::F64)
+}
+
+/// [`write_rows`] of values of type `sample`, as the GeoTIFF of the same raster holds them:
+/// [`SampleType::I32`] values (counts, classes) rounded to the nearest integer (half away
+/// from zero) and written without a fraction, as is the nodata marker; a value outside the
+/// `i32` range is [`RasterError::Invalid`]. Float types are written as they are.
+pub fn write_rows_as(path: &Path, rows: &impl Rows, sample: SampleType) -> Result<(), RasterError> {
     let g = rows.geometry();
+    let invalid = |message: String| RasterError::Invalid {
+        path: path.to_path_buf(),
+        message,
+    };
     if g.is_empty() {
-        return Err(RasterError::Invalid {
-            path: path.to_path_buf(),
-            message: "cannot write an empty grid".into(),
-        });
+        return Err(invalid("cannot write an empty grid".into()));
     }
+    let integers = sample == SampleType::I32;
+    // `+ 0.0` turns −0 into 0
+    let stored = |v: f64| if integers { v.round() + 0.0 } else { v };
     let mut has_nodata = false;
-    try_for_each_row(rows, |_, cells| {
-        for c in cells {
+    try_for_each_row(rows, |row, cells| {
+        for (col, c) in cells.iter().enumerate() {
             match c {
                 None => has_nodata = true,
                 Some(v) if !v.is_finite() => {
-                    return Err(RasterError::Invalid {
-                        path: path.to_path_buf(),
-                        message: format!("cannot write non-finite value {v}"),
-                    });
+                    return Err(invalid(format!("cannot write non-finite value {v}")));
+                }
+                Some(v) if integers && !fits_i32(stored(*v)) => {
+                    return Err(invalid(format!(
+                        "cell (row {row}, column {col}) = {v:?} does not fit I32"
+                    )));
                 }
                 Some(_) => {}
             }
         }
         Ok(())
     })?;
-    let nodata = rows.nodata_value().unwrap_or(-9999.0);
+    let nodata = stored(rows.nodata_value().unwrap_or(-9999.0));
     write_atomic(path, |w| {
         let io = |e| RasterError::io(path, e);
         writeln!(w, "ncols {}", g.ncols).map_err(io)?;
@@ -332,7 +346,8 @@ pub fn write_rows(path: &Path, rows: &impl Rows) -> Result<(), RasterError> {
                 if col > 0 {
                     line.push(' ');
                 }
-                let v = c.unwrap_or(nodata);
+                // `{}` of an f64 never writes an exponent, nor `.0` after an integer
+                let v = c.map_or(nodata, stored);
                 use std::fmt::Write as _;
                 let _ = write!(line, "{v}");
             }
@@ -345,6 +360,10 @@ pub fn write_rows(path: &Path, rows: &impl Rows) -> Result<(), RasterError> {
         crate::atomic::write_bytes_atomic(&prj, wkt.as_bytes()).map_err(RasterError::from)?;
     }
     Ok(())
+}
+
+fn fits_i32(v: f64) -> bool {
+    v >= f64::from(i32::MIN) && v <= f64::from(i32::MAX)
 }
 
 #[cfg(test)]
@@ -477,6 +496,39 @@ mod tests {
         assert_eq!(back.mask(), grid.mask());
         assert_eq!(back.values(), grid.values());
         assert_eq!(back.crs().and_then(|c| c.epsg), Some(2154));
+    }
+
+    #[test]
+    fn integer_grids_are_written_as_integers() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("n.asc");
+        let geom = GridGeometry {
+            ncols: 4,
+            nrows: 1,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 1.0,
+        };
+        let mut grid = Grid::from_values(geom, vec![3.0, 2.5, -0.4, 1e10]).unwrap();
+        grid.set_nodata(0, 3);
+        write_rows_as(&path, &grid, SampleType::I32).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        // 2.5 rounds half away from zero, −0.4 to 0 (not "-0"), nodata as −9999
+        assert!(
+            text.ends_with("NODATA_value -9999\n3 3 0 -9999\n"),
+            "{text}"
+        );
+        // floats are written as they are, integers without `.0` in either case
+        write_rows_as(&path, &grid, SampleType::F32).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.ends_with("\n3 2.5 -0.4 -9999\n"), "{text}");
+        grid.set(0, 3, 3e9);
+        let err = write_rows_as(&path, &grid, SampleType::I32).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("(row 0, column 3) = 3000000000.0 does not fit I32"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -3,22 +3,33 @@
 //!
 //! Georeferencing is carried by `ModelPixelScale` + `ModelTiepoint` (or, on reading, a
 //! rotation-free `ModelTransformation`), the CRS by the EPSG code in the GeoKey directory and
-//! the nodata marker by GDAL's `GDAL_NODATA` ASCII tag. Files are written Deflate-compressed,
-//! in strips, as BigTIFF when the raw samples exceed 2 GiB.
+//! the nodata marker by GDAL's `GDAL_NODATA` ASCII tag.
+//!
+//! Files are written as Cloud-Optimised GeoTIFFs ([`cog`]): tiles of [`TILE`] × [`TILE`]
+//! cells, Deflate with a predictor ([`tile`]), internal overviews ([`overview`]: the mean of
+//! valid cells for floats, the centre cell for integers), in the layout GDAL's COG driver
+//! writes; classic TIFF, or BigTIFF when the file would pass 4 GiB. They are written row by
+//! row: about two bands of [`TILE`] rows in memory.
 
 use std::fs::File;
-use std::io::{BufReader, Read, Seek, Write};
+use std::io::{BufReader, Read, Seek};
 use std::path::Path;
 
 use tiff::TiffError;
 use tiff::decoder::ifd::Value;
 use tiff::decoder::{Decoder, DecodingResult, Limits};
-use tiff::encoder::colortype::{ColorType, Gray32Float, Gray64Float, GrayI32};
-use tiff::encoder::compression::{CompressionAlgorithm, Deflate, DeflateLevel};
-use tiff::encoder::{Rational, TiffEncoder, TiffKind, TiffKindBig, TiffKindStandard, TiffValue};
-use tiff::tags::{CompressionMethod, Predictor, ResolutionUnit, Tag};
+use tiff::tags::Tag;
 
 use crate::{Crs, Grid, GridGeometry, RasterError, Rows, SampleType};
+
+mod cog;
+mod ifd;
+mod overview;
+mod tile;
+
+use cog::Failure;
+pub use cog::TILE;
+use overview::Resampling;
 
 const GT_MODEL_TYPE: u16 = 1024;
 const GT_RASTER_TYPE: u16 = 1025;
@@ -74,6 +85,10 @@ pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
             Some(parsed.map_err(|_| fail(format!("GDAL_NODATA {text:?} is not a number")))?)
         }
     };
+    let file_len = std::fs::metadata(path)
+        .map_err(|e| RasterError::io(path, e))?
+        .len();
+    check_chunks_in_file(&mut dec, file_len).map_err(fail)?;
 
     let (ncols, nrows) = (width as usize, height as usize);
     let n = ncols.saturating_mul(nrows);
@@ -139,6 +154,30 @@ pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
     grid.set_nodata_value(nodata);
     grid.set_crs(epsg.map(Crs::from_epsg));
     Ok(grid)
+}
+
+/// Every strip or tile lies within the file's `file_len` bytes: a file cut short is an error,
+/// even where the decompressor would not notice (a cut in a Deflate stream's checksum).
+fn check_chunks_in_file<R: Read + Seek>(dec: &mut Decoder<R>, file_len: u64) -> Result<(), String> {
+    let bad = |e: TiffError| format!("not a readable TIFF: {e}");
+    let vec = |dec: &mut Decoder<R>, tag| dec.find_tag_unsigned_vec::<u64>(tag).map_err(bad);
+    let (offsets, counts) = match vec(dec, Tag::TileOffsets)? {
+        Some(o) => (o, vec(dec, Tag::TileByteCounts)?),
+        None => (
+            vec(dec, Tag::StripOffsets)?.unwrap_or_default(),
+            vec(dec, Tag::StripByteCounts)?,
+        ),
+    };
+    let counts = counts.unwrap_or_default();
+    for (k, (o, n)) in offsets.iter().zip(&counts).enumerate() {
+        let end = o.saturating_add(*n);
+        if end > file_len {
+            return Err(format!(
+                "truncated: chunk {k} ends at byte {end} of a {file_len}-byte file"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The samples of one decoded chunk as `f64` into `out` (cleared first); true when they were
@@ -218,8 +257,9 @@ fn georef(
     Ok((x_min - half, y_max + half, sx, epsg))
 }
 
-/// Writes a single-band GeoTIFF with georeferencing (PixelIsArea, EPSG GeoKeys when the CRS
-/// has a code), atomically through [`crate::atomic::write_atomic`].
+/// Writes a single-band Cloud-Optimised GeoTIFF (see the module docs) with georeferencing
+/// (PixelIsArea, EPSG GeoKeys when the CRS has a code), atomically through
+/// [`crate::atomic::write_atomic`].
 ///
 /// When the grid has nodata cells they hold the marker written as `GDAL_NODATA`: the grid's
 /// [`Grid::nodata_value`] when the sample type can store it, else −9999 (or the type's lowest
@@ -231,17 +271,19 @@ pub fn write(path: &Path, grid: &Grid<f64>, sample: SampleType) -> Result<(), Ra
 }
 
 /// [`write`] of a raster given row by row, byte for byte the file [`write`] makes of the same
-/// cells: one pass over the rows to choose the nodata marker, one to encode, strip by strip
-/// (Deflate, the strip height the `tiff` crate picks: ≈ 1 MB of samples), so that at most one
-/// strip is in memory.
+/// cells: one pass over the rows to choose the nodata marker, one to encode, band by band of
+/// [`TILE`] rows, with the overviews built as the rows pass.
+///
+/// Overviews: [`SampleType::F32`] and [`SampleType::F64`] rasters (continuous values) take the
+/// mean of the valid cells of each block, [`SampleType::I32`] ones (counts, classes) its
+/// centre cell, so that they hold only values of the grid.
 pub fn write_rows(path: &Path, rows: &impl Rows, sample: SampleType) -> Result<(), RasterError> {
     let invalid = |message: String| RasterError::Invalid {
         path: path.to_path_buf(),
         message,
     };
     let g = rows.geometry();
-    let (Ok(width @ 1..), Ok(height @ 1..)) = (u32::try_from(g.ncols), u32::try_from(g.nrows))
-    else {
+    let (Ok(1..), Ok(1..)) = (u32::try_from(g.ncols), u32::try_from(g.nrows)) else {
         return Err(invalid(format!(
             "cannot write a {} × {} grid",
             g.ncols, g.nrows
@@ -264,69 +306,26 @@ pub fn write_rows(path: &Path, rows: &impl Rows, sample: SampleType) -> Result<(
         ))
     };
     let tags = GeoTags {
-        size: (width, height),
         scale: [cell, cell, 0.0],
         tiepoint: [0.0, 0.0, 0.0, g.x_min_m, g.y_max_m(), 0.0],
         keys: geo_keys(rows.crs()),
         nodata: nodata.map(|v| format_nodata(v, sample)),
     };
-    let fail = |e: Failure| match e {
-        Failure::Cell(c) => bad_cell(c),
-        Failure::Tiff(e) => tiff_error(path, e),
-    };
     match sample {
-        SampleType::F64 => save::<Gray64Float>(path, rows, &tags, |v| {
+        SampleType::F64 => cog::write(path, rows, &tags, Resampling::Average, |v| {
             cell_sample(v, nd, f64::is_finite, |v| v)
         }),
-        SampleType::F32 => save::<Gray32Float>(path, rows, &tags, |v| {
+        SampleType::F32 => cog::write(path, rows, &tags, Resampling::Average, |v| {
             cell_sample(v, nd, |v| (v as f32).is_finite(), |v| v as f32)
         }),
-        SampleType::I32 => save::<GrayI32>(path, rows, &tags, |v| {
+        SampleType::I32 => cog::write(path, rows, &tags, Resampling::Nearest, |v| {
             cell_sample(v, nd, |v| fits_i32(v.round()), |v| v.round() as i32)
         }),
     }
-    .map_err(fail)
-}
-
-/// Why encoding stopped: a cell the sample type cannot hold (index, value), or the encoder.
-enum Failure {
-    Cell((usize, f64)),
-    Tiff(TiffError),
-}
-
-impl From<TiffError> for Failure {
-    fn from(e: TiffError) -> Self {
-        Failure::Tiff(e)
-    }
-}
-
-impl From<std::num::TryFromIntError> for Failure {
-    fn from(e: std::num::TryFromIntError) -> Self {
-        Failure::Tiff(e.into())
-    }
-}
-
-impl From<std::io::Error> for Failure {
-    fn from(e: std::io::Error) -> Self {
-        Failure::Tiff(TiffError::IoError(e))
-    }
-}
-
-impl From<(std::path::PathBuf, std::io::Error)> for Failure {
-    fn from((_, e): (std::path::PathBuf, std::io::Error)) -> Self {
-        Failure::Tiff(TiffError::IoError(e))
-    }
-}
-
-/// An encoder error as a [`RasterError`] naming `path`.
-fn tiff_error(path: &Path, e: TiffError) -> RasterError {
-    match e {
-        TiffError::IoError(source) => RasterError::io(path, source),
-        e => RasterError::Tiff {
-            path: path.to_path_buf(),
-            message: format!("cannot encode the TIFF: {e}"),
-        },
-    }
+    .map_err(|e| match e {
+        Failure::Cell(c) => bad_cell(c),
+        Failure::Io(e) => RasterError::io(path, e),
+    })
 }
 
 /// A valid cell through `to` (when `fits`, else `Err(value)`), a nodata cell as `to(nodata)`.
@@ -341,95 +340,6 @@ fn cell_sample<T>(
         Some(v) if fits(v) => Ok(to(v)),
         Some(v) => Err(v),
     }
-}
-
-/// Encodes the rows with `tags` through [`crate::atomic::write_atomic`], each cell through
-/// `sample`; BigTIFF when the raw samples exceed 2 GiB.
-fn save<C: ColorType>(
-    path: &Path,
-    rows: &impl Rows,
-    tags: &GeoTags,
-    sample: impl Fn(Option<f64>) -> Result<C::Inner, f64>,
-) -> Result<(), Failure>
-where
-    [C::Inner]: TiffValue,
-{
-    let g = rows.geometry();
-    let raw_bytes = g.len() as u64 * u64::from(<C::Inner as TiffValue>::BYTE_LEN);
-    let big = raw_bytes > 1 << 31;
-    crate::atomic::write_atomic(path, |w| {
-        if big {
-            encode::<_, TiffKindBig, C>(TiffEncoder::new_big(w)?, rows, tags, &sample)
-        } else {
-            encode::<_, TiffKindStandard, C>(TiffEncoder::new(w)?, rows, tags, &sample)
-        }
-    })
-}
-
-/// Lowest-level writing of one image: the tags `tiff`'s `ImageEncoder` writes, in its order,
-/// then ours, then the strips — each compressed here (Deflate, as `ImageEncoder` would) and
-/// written as raw bytes — then the strip tables. The result is byte for byte what
-/// `ImageEncoder::write_data` writes for the whole image at once (tested), without the whole
-/// image in memory.
-fn encode<W: Write + Seek, K: TiffKind, C: ColorType>(
-    mut encoder: TiffEncoder<W, K>,
-    rows: &impl Rows,
-    tags: &GeoTags,
-    sample: &impl Fn(Option<f64>) -> Result<C::Inner, f64>,
-) -> Result<(), Failure>
-where
-    [C::Inner]: TiffValue,
-{
-    let (width, height) = tags.size;
-    let ncols = width as usize;
-    let row_bytes = u64::from(width) * u64::from(<C::Inner as TiffValue>::BYTE_LEN);
-    // ImageEncoder's choice for every compression but PackBits
-    let rows_per_strip = 1_000_000_u64.div_ceil(row_bytes);
-    let mut dir = encoder.image_directory()?;
-    dir.write_tag(Tag::ImageWidth, width)?;
-    dir.write_tag(Tag::ImageLength, height)?;
-    dir.write_tag(Tag::Compression, CompressionMethod::Deflate.to_u16())?;
-    dir.write_tag(Tag::Predictor, Predictor::None.to_u16())?;
-    dir.write_tag(Tag::PhotometricInterpretation, C::TIFF_VALUE.to_u16())?;
-    dir.write_tag(Tag::RowsPerStrip, u32::try_from(rows_per_strip)?)?;
-    dir.write_tag(Tag::SamplesPerPixel, 1_u16)?;
-    dir.write_tag(Tag::XResolution, Rational { n: 1, d: 1 })?;
-    dir.write_tag(Tag::YResolution, Rational { n: 1, d: 1 })?;
-    dir.write_tag(Tag::ResolutionUnit, ResolutionUnit::None)?;
-    dir.write_tag(Tag::ModelPixelScaleTag, &tags.scale[..])?;
-    dir.write_tag(Tag::ModelTiepointTag, &tags.tiepoint[..])?;
-    if !tags.keys.is_empty() {
-        dir.write_tag(Tag::GeoKeyDirectoryTag, &tags.keys[..])?;
-    }
-    if let Some(nodata) = &tags.nodata {
-        dir.write_tag(Tag::GdalNodata, nodata.as_str())?;
-    }
-    let (mut offsets, mut counts) = (Vec::<K::OffsetType>::new(), Vec::<K::OffsetType>::new());
-    let rows_per_strip = rows_per_strip as usize;
-    let mut strip: Vec<C::Inner> = Vec::with_capacity(rows_per_strip.min(height as usize) * ncols);
-    let mut packed = Vec::new();
-    let mut cells = vec![None; ncols];
-    for first in (0..height as usize).step_by(rows_per_strip) {
-        strip.clear();
-        for row in first..(first + rows_per_strip).min(height as usize) {
-            rows.row(row, &mut cells);
-            for (col, &c) in cells.iter().enumerate() {
-                strip.push(sample(c).map_err(|v| Failure::Cell((row * ncols + col, v)))?);
-            }
-        }
-        packed.clear();
-        let mut deflate = Deflate::with_level(DeflateLevel::Balanced);
-        let bytes = deflate.write_to(&mut packed, &strip[..].data())?;
-        offsets.push(K::convert_offset(dir.write_data(&packed[..])?)?);
-        counts.push(K::convert_offset(bytes)?);
-    }
-    dir.write_tag(Tag::BitsPerSample, C::BITS_PER_SAMPLE)?;
-    let formats: Vec<u16> = C::SAMPLE_FORMAT.iter().map(|f| f.to_u16()).collect();
-    dir.write_tag(Tag::SampleFormat, &formats[..])?;
-    dir.write_tag(Tag::StripOffsets, K::convert_slice(&offsets))?;
-    dir.write_tag(Tag::StripByteCounts, K::convert_slice(&counts))?;
-    dir.finish()?;
-    Ok(())
 }
 
 fn fits_i32(v: f64) -> bool {
@@ -529,55 +439,19 @@ fn geo_keys(crs: Option<&Crs>) -> Vec<u16> {
     keys
 }
 
-/// Size and georeferencing tags of a written file.
+/// Georeferencing and nodata tags of a written file.
 struct GeoTags {
-    size: (u32, u32),
     scale: [f64; 3],
     tiepoint: [f64; 6],
     keys: Vec<u16>,
     nodata: Option<String>,
 }
 
-/// The whole-grid writer the strip-by-strip one replaced, the reference of a test.
-#[cfg(test)]
-mod whole_grid;
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tiff::encoder::colortype::{Gray8, Gray16, GrayI16, RGB8};
-
-    #[test]
-    fn strip_by_strip_writing_gives_the_bytes_of_the_whole_grid_writer() {
-        let dir = tempfile::tempdir().unwrap();
-        // odd sizes; 2 999 f32 columns make strips of 84 rows (3 strips), f64 of 42 rows
-        for (ncols, nrows) in [(1, 1), (3, 7), (2_999, 171)] {
-            let g = GridGeometry {
-                ncols,
-                nrows,
-                x_min_m: 912_000.5,
-                y_min_m: 6_456_000.25,
-                cell_size_m: 2.5,
-            };
-            let value = |r: usize, c: usize| ((r * 31 + c * 17) % 101) as f64 * 0.37 - 5.0;
-            let mut grids = vec![Grid::from_fn(g, |r, c| Some(value(r, c)))];
-            // nodata cells, one valid cell holding the grid's marker, a CRS
-            let mut holed = Grid::from_fn(g, |r, c| ((r + c) % 5 != 1).then(|| value(r, c)))
-                .with_crs(Some(Crs::from_epsg(2154)));
-            holed.set_nodata_value(Some(-9999.0));
-            holed.set(0, 0, -9999.0);
-            grids.push(holed);
-            for (k, grid) in grids.iter().enumerate() {
-                for sample in [SampleType::F32, SampleType::F64, SampleType::I32] {
-                    let (old, new) = (dir.path().join("old.tif"), dir.path().join("new.tif"));
-                    whole_grid::write(&old, grid, sample).unwrap();
-                    write(&new, grid, sample).unwrap();
-                    let (old, new) = (std::fs::read(&old).unwrap(), std::fs::read(&new).unwrap());
-                    assert!(old == new, "{ncols} × {nrows}, grid {k}, {sample:?}");
-                }
-            }
-        }
-    }
+    use tiff::encoder::colortype::{ColorType, Gray8, Gray16, GrayI16, RGB8};
+    use tiff::encoder::{TiffEncoder, TiffValue};
 
     /// 4 × 3 cells of 2.5 m, north-west corner (1000.25, 2008.25), cell (1, 2) nodata.
     fn grid(value: impl Fn(usize) -> f64) -> Grid<f64> {
@@ -679,7 +553,9 @@ mod tests {
         let path = dir.path().join("g.tif");
         write(&path, &grid(|i| i as f64), SampleType::F32).unwrap();
         let bytes = std::fs::read(&path).unwrap();
-        for len in (0..bytes.len()).chain([8]) {
+        // the last 4 bytes are the trailer of the last tile, a copy outside the image data
+        let end = bytes.len() - 4;
+        for len in (0..end).chain([8]) {
             let mut cut = bytes[..len].to_vec();
             cut.extend_from_slice(if len == 8 { b"garbage" } else { b"" });
             std::fs::write(&path, &cut).unwrap();

@@ -8,7 +8,8 @@
 //!
 //! Formats each live in their own module behind this one type:
 //! - [`ascii_grid`]: ESRI ASCII grid (`.asc`) with a `.prj` sidecar for the CRS;
-//! - [`geotiff`]: GeoTIFF (`.tif`), f32/f64/integer samples, GeoKeys for GDAL and QGIS.
+//! - [`geotiff`]: GeoTIFF (`.tif`), f32/f64/integer samples, GeoKeys for GDAL and QGIS;
+//!   written as Cloud-Optimised GeoTIFFs (tiles, predictor, internal overviews).
 //!
 //! [`read_grid`] and [`write_grid`] pick the format from the file extension; [`write_rows`]
 //! writes any [`Rows`] (a raster produced row by row) without a whole grid in memory. Every
@@ -55,17 +56,19 @@ pub fn read_grid(path: &Path) -> Result<Grid<f64>, RasterError> {
     }
 }
 
-/// Writes a raster, choosing the format from the extension. `sample` applies to GeoTIFF only.
+/// Writes a raster, choosing the format from the extension. `sample` is the GeoTIFF's sample
+/// type; ASCII grids of [`SampleType::I32`] are written as integers too.
 pub fn write_grid(path: &Path, grid: &Grid<f64>, sample: SampleType) -> Result<(), RasterError> {
     write_rows(path, grid, sample)
 }
 
 /// Writes a raster given row by row, choosing the format from the extension; the same bytes as
-/// [`write_grid`] of the same cells, with at most one strip of the file in memory. `sample`
-/// applies to GeoTIFF only.
+/// [`write_grid`] of the same cells, with a band of rows in memory (see
+/// [`geotiff::write_rows`]). `sample` is the GeoTIFF's sample type; an ASCII grid of
+/// [`SampleType::I32`] holds the same rounded integers ([`ascii_grid::write_rows_as`]).
 pub fn write_rows(path: &Path, rows: &impl Rows, sample: SampleType) -> Result<(), RasterError> {
     match format_of(path)? {
-        Format::Ascii => ascii_grid::write_rows(path, rows),
+        Format::Ascii => ascii_grid::write_rows_as(path, rows, sample),
         Format::GeoTiff => geotiff::write_rows(path, rows, sample),
     }
 }

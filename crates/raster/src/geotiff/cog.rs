@@ -1,0 +1,310 @@
+//! Cloud-Optimised GeoTIFF writing, row by row in bounded memory.
+//!
+//! The layout is the one GDAL's COG driver writes and its validator
+//! (`validate_cloud_optimized_geotiff.py`) checks (GDAL, doc/source/drivers/raster/cog.rst,
+//! "File format details"):
+//!
+//! ```text
+//! header │ ghost area │ IFD 0 (full resolution) + its values │ IFD 1 … IFD n (overviews,
+//! largest first, NewSubfileType = 1) │ TileOffsets + TileByteCounts of each IFD │ tiles of
+//! level n │ … │ tiles of level 1 │ tiles of the full resolution
+//! ```
+//!
+//! Each level's tiles are in row-major order, each preceded by its size (u32, the "leader")
+//! and followed by a copy of its last 4 bytes (the "trailer"), as the ghost area
+//! (`GDAL_STRUCTURAL_METADATA`) declares; GDAL then reports `LAYOUT=COG`. Tiles are
+//! [`TILE`] × [`TILE`] cells. The GeoKeys, pixel scale and tiepoint are on the first IFD
+//! only, as GDAL writes them; `GDAL_NODATA` is on every IFD.
+//!
+//! Memory: the rows arrive north to south; each level keeps one band of [`TILE`] rows of its
+//! width (about twice the full-resolution band in all), and writes the band's tiles,
+//! compressed, to a temporary file of its own (anonymous, beside the target) as soon as the
+//! band is full. The final file is then assembled — directories, then the temporary files'
+//! bytes smallest level first — through [`crate::atomic::write_atomic`].
+
+use std::fs::File;
+use std::io::{self, BufWriter, Seek, Write};
+use std::path::Path;
+
+use super::GeoTags;
+use super::ifd::{Ifd, Kind, TILE_BYTE_COUNTS, TILE_OFFSETS, put};
+use super::overview::{Reducer, Resampling};
+use super::tile::{Sample, TileCoder};
+use crate::Rows;
+
+/// Tile width and height in cells. 256, GDAL's GeoTIFF default (`BLOCKXSIZE`), rather than
+/// the COG driver's 512: a band of tile rows (the memory the writer needs) is half as big,
+/// a map at full zoom decodes a quarter of the cells per tile, and grids up to 256 cells
+/// across, most of our sites' results, are one tile with no padding wasted.
+pub const TILE: usize = 256;
+
+/// What stopped the writing: a valid cell the sample type cannot hold (cell index, value),
+/// or the file system.
+pub(super) enum Failure {
+    Cell((usize, f64)),
+    Io(io::Error),
+}
+
+impl From<io::Error> for Failure {
+    fn from(e: io::Error) -> Self {
+        Failure::Io(e)
+    }
+}
+
+impl From<(std::path::PathBuf, io::Error)> for Failure {
+    fn from((_, e): (std::path::PathBuf, io::Error)) -> Self {
+        Failure::Io(e)
+    }
+}
+
+/// The sizes of the full resolution and of every overview level: halved (rounded up) until
+/// both fit in one tile.
+pub(super) fn level_sizes(width: usize, height: usize) -> Vec<(usize, usize)> {
+    let mut sizes = vec![(width, height)];
+    while let Some(&(w, h)) = sizes.last().filter(|&&(w, h)| w > TILE || h > TILE) {
+        sizes.push((w.div_ceil(2), h.div_ceil(2)));
+    }
+    sizes
+}
+
+/// One level's tiles as they are made: a band of rows, and the compressed tiles written so
+/// far to a temporary file, with leaders and trailers.
+struct Level<T> {
+    width: usize,
+    height: usize,
+    rows: usize,
+    band: Vec<T>,
+    data: BufWriter<File>,
+    written: u64,
+    /// Offset of each tile's payload in `data`, and its size.
+    offsets: Vec<u64>,
+    counts: Vec<u64>,
+}
+
+impl<T: Sample> Level<T> {
+    fn new((width, height): (usize, usize), dir: &Path) -> io::Result<Self> {
+        Ok(Level {
+            width,
+            height,
+            rows: 0,
+            band: Vec::with_capacity(TILE.min(height) * width),
+            data: BufWriter::new(tempfile::tempfile_in(dir)?),
+            written: 0,
+            offsets: Vec::new(),
+            counts: Vec::new(),
+        })
+    }
+
+    /// Adds the next row; writes the band's tiles when it is full or the level complete.
+    fn push(
+        &mut self,
+        row: &[T],
+        coder: &mut TileCoder<T>,
+        packed: &mut Vec<u8>,
+    ) -> io::Result<()> {
+        self.band.extend_from_slice(row);
+        self.rows += 1;
+        if self.rows % TILE != 0 && self.rows != self.height {
+            return Ok(());
+        }
+        for col0 in (0..self.width).step_by(TILE) {
+            packed.clear();
+            coder.encode(&self.band, self.width, col0, packed)?;
+            let len = u32::try_from(packed.len()).map_err(io::Error::other)?;
+            // a zlib stream has at least 6 bytes: the trailer exists
+            let trailer = &packed[packed.len() - 4..];
+            self.written += put(&mut self.data, &len.to_le_bytes())?;
+            self.offsets.push(self.written);
+            self.counts.push(u64::from(len));
+            self.written += put(&mut self.data, packed)?;
+            self.written += put(&mut self.data, trailer)?;
+        }
+        self.band.clear();
+        Ok(())
+    }
+
+    fn tiles(&self) -> usize {
+        self.width.div_ceil(TILE) * self.height.div_ceil(TILE)
+    }
+}
+
+/// Writes `rows` as a COG at `path` (atomically), each cell through `sample` (nodata cells
+/// too: `sample(None)` is the marker), overviews by `rule`. `has_nodata`: the file names a
+/// nodata marker (`tags.nodata`); edge tiles are padded with it, else with zero.
+pub(super) fn write<T: Sample>(
+    path: &Path,
+    rows: &impl Rows,
+    tags: &GeoTags,
+    rule: Resampling,
+    sample: impl Fn(Option<f64>) -> Result<T, f64>,
+) -> Result<(), Failure> {
+    let g = rows.geometry();
+    let marker = sample(None).map_err(|v| Failure::Cell((0, v)))?;
+    let pad = if tags.nodata.is_some() {
+        marker
+    } else {
+        T::from_f64(0.0)
+    };
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let sizes = level_sizes(g.ncols, g.nrows);
+    let mut levels = (sizes.iter())
+        .map(|&s| Level::new(s, dir))
+        .collect::<io::Result<Vec<Level<T>>>>()?;
+    let mut reducer = Reducer::new(rule, (g.ncols, g.nrows), &sizes[1..], marker);
+    let mut coder = TileCoder::new(TILE, pad);
+    let mut packed = Vec::new();
+    let mut cells = vec![None; g.ncols];
+    let mut samples = Vec::with_capacity(g.ncols);
+    for r in 0..g.nrows {
+        rows.row(r, &mut cells);
+        samples.clear();
+        for (c, &cell) in cells.iter().enumerate() {
+            samples.push(sample(cell).map_err(|v| Failure::Cell((r * g.ncols + c, v)))?);
+        }
+        levels[0].push(&samples, &mut coder, &mut packed)?;
+        reducer.push(r, &cells, &samples, &mut |k, row| {
+            levels[k].push(row, &mut coder, &mut packed)
+        })?;
+    }
+    crate::atomic::write_atomic(path, |w| assemble(w, levels, tags))
+}
+
+/// The ghost area GDAL writes after the header (cog.rst, "Header ghost area"): a 43-byte
+/// line giving the size of the rest, then the layout's features, a newline after each and a
+/// space after the last.
+fn ghost_area() -> Vec<u8> {
+    let features = "LAYOUT=IFDS_BEFORE_DATA\nBLOCK_ORDER=ROW_MAJOR\nBLOCK_LEADER=SIZE_AS_UINT4\n\
+                    BLOCK_TRAILER=LAST_4_BYTES_REPEATED\nKNOWN_INCOMPATIBLE_EDITION=NO\n ";
+    format!(
+        "GDAL_STRUCTURAL_METADATA_SIZE={:06} bytes\n{features}",
+        features.len()
+    )
+    .into_bytes()
+}
+
+/// The IFD of level `k` (0: full resolution) of size `(w, h)`.
+fn ifd_of<T: Sample>(
+    k: usize,
+    (w, h): (usize, usize),
+    tiles: usize,
+    tags: &GeoTags,
+    kind: Kind,
+) -> Ifd {
+    let mut ifd = Ifd::default();
+    if k > 0 {
+        ifd.long(254, 1); // NewSubfileType: a reduced-resolution version of the image
+    }
+    ifd.long(256, w as u32);
+    ifd.long(257, h as u32);
+    ifd.short(258, &[T::BITS]);
+    ifd.short(259, &[8]); // Deflate
+    ifd.short(262, &[1]); // BlackIsZero
+    ifd.short(277, &[1]);
+    ifd.short(284, &[1]); // chunky
+    ifd.short(317, &[T::PREDICTOR]);
+    ifd.short(322, &[TILE as u16]);
+    ifd.short(323, &[TILE as u16]);
+    ifd.tiles(kind, tiles);
+    ifd.short(339, &[T::FORMAT]);
+    if k == 0 {
+        ifd.double(33550, &tags.scale);
+        ifd.double(33922, &tags.tiepoint);
+        if !tags.keys.is_empty() {
+            ifd.short(34735, &tags.keys);
+        }
+    }
+    if let Some(nodata) = &tags.nodata {
+        ifd.ascii(42113, nodata);
+    }
+    ifd
+}
+
+/// Where everything goes in the file.
+struct Layout {
+    kind: Kind,
+    first_ifd: u64,
+    /// Position of each IFD, of its tile arrays, of its tile data.
+    ifds: Vec<u64>,
+    arrays: Vec<u64>,
+    data: Vec<u64>,
+    end: u64,
+}
+
+/// The layout of `ifds` and the tiles of `levels` after a header and a ghost area of `ghost`
+/// bytes.
+fn layout<T>(ifds: &[Ifd], levels: &[Level<T>], kind: Kind, ghost: u64) -> Layout {
+    let first_ifd = (kind.header_len() + ghost).next_multiple_of(2);
+    let mut pos = first_ifd;
+    let mut place = |len: u64| {
+        let at = pos;
+        pos += len;
+        at
+    };
+    let ifd_pos = (ifds.iter())
+        .map(|ifd| place(ifd.dir_len(kind) + ifd.values_len(kind, in_ifd)))
+        .collect();
+    let arrays = (ifds.iter())
+        .map(|ifd| place(ifd.values_len(kind, |t| !in_ifd(t))))
+        .collect();
+    let mut data: Vec<u64> = (levels.iter().rev()).map(|l| place(l.written)).collect();
+    data.reverse();
+    Layout {
+        kind,
+        first_ifd,
+        ifds: ifd_pos,
+        arrays,
+        data,
+        end: pos,
+    }
+}
+
+/// Writes the file: header, ghost area, IFDs, tile arrays, then the levels' tiles from the
+/// smallest to the full resolution. Classic TIFF when every offset fits in 32 bits, else
+/// BigTIFF.
+fn assemble<T: Sample>(
+    w: &mut impl Write,
+    levels: Vec<Level<T>>,
+    tags: &GeoTags,
+) -> Result<(), Failure> {
+    let ghost = ghost_area();
+    let ifds_of = |kind| -> Vec<Ifd> {
+        (levels.iter().enumerate())
+            .map(|(k, l)| ifd_of::<T>(k, (l.width, l.height), l.tiles(), tags, kind))
+            .collect()
+    };
+    let mut ifds = ifds_of(Kind::Classic);
+    let mut at = layout(&ifds, &levels, Kind::Classic, ghost.len() as u64);
+    if at.end > u64::from(u32::MAX) {
+        ifds = ifds_of(Kind::Big);
+        at = layout(&ifds, &levels, Kind::Big, ghost.len() as u64);
+    }
+    let kind = at.kind;
+    let mut written = put(w, &kind.header(at.first_ifd))?;
+    written += put(w, &ghost)?;
+    put(w, &vec![0; (at.first_ifd - written) as usize])?;
+    let mut arrays = Vec::new();
+    for (k, (ifd, level)) in ifds.iter_mut().zip(&levels).enumerate() {
+        let offsets: Vec<u64> = level.offsets.iter().map(|o| at.data[k] + o).collect();
+        ifd.set_tiles(kind, &offsets, &level.counts);
+        let next = at.ifds.get(k + 1).copied().unwrap_or(0);
+        let (dir, far) = ifd.encode(kind, at.ifds[k], next, in_ifd, at.arrays[k]);
+        put(w, &dir)?;
+        arrays.extend(far);
+    }
+    put(w, &arrays)?;
+    for level in levels.into_iter().rev() {
+        let mut file = level.data.into_inner().map_err(|e| e.into_error())?;
+        file.rewind()?;
+        io::copy(&mut file, w)?;
+    }
+    Ok(())
+}
+
+/// The tags whose values follow their IFD: all but the tile arrays, which follow the last
+/// IFD.
+fn in_ifd(tag: u16) -> bool {
+    tag != TILE_OFFSETS && tag != TILE_BYTE_COUNTS
+}
