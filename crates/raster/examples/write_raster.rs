@@ -2,11 +2,13 @@
 //! GeoTIFF writer and measuring its memory: the cells are computed row by row (a [`Rows`]
 //! view, no grid in memory), so the process's peak memory is the writer's.
 //!
-//! The raster looks like a result map: a smooth field over a slope (`f32`/`f64`) or counts
-//! falling off away from a few paths (`i32`), nodata west of a diagonal (floats only).
+//! The raster is dense, a smooth field over a slope (`f32`/`f64`) with nodata west of a
+//! diagonal, or counts falling off away from three paths (`i32`); with `sparse` it looks like
+//! a result map of a regional run: values only along the three paths, nodata (floats) or 0
+//! (counts) elsewhere.
 //!
 //! ```sh
-//! cargo run --release -p rockfall-raster --example write_raster -- OUT.tif NCOLS NROWS [f32|f64|i32]
+//! cargo run --release -p rockfall-raster --example write_raster -- OUT.tif NCOLS NROWS [f32|f64|i32] [sparse]
 //! /usr/bin/time -v target/release/examples/write_raster OUT.tif 4000 4000   # "Maximum resident set size"
 //! ```
 //!
@@ -23,6 +25,7 @@ struct Synthetic {
     geometry: GridGeometry,
     crs: Crs,
     counts: bool,
+    sparse: bool,
 }
 
 impl Synthetic {
@@ -30,11 +33,15 @@ impl Synthetic {
     fn cell(&self, row: usize, col: usize) -> Option<f64> {
         let (r, c) = (row as f64, col as f64);
         let n = self.geometry.ncols as f64;
+        // three paths down the slope
+        let d = (0..3)
+            .map(|k| (c - (k as f64 + 0.5) * n / 3.0 - 0.02 * r).abs())
+            .fold(f64::INFINITY, f64::min);
+        if self.sparse && d > 20.0 {
+            return self.counts.then_some(0.0);
+        }
         if self.counts {
-            // three paths down the slope, counts decaying away from each
-            let d = (0..3)
-                .map(|k| (c - (k as f64 + 0.5) * n / 3.0 - 0.02 * r).abs())
-                .fold(f64::INFINITY, f64::min);
+            // counts decaying away from the paths
             return Some((1000.0 * (-d / 40.0).exp()).floor());
         }
         if c < 0.1 * r {
@@ -68,7 +75,7 @@ impl Rows for Synthetic {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let [out, ncols, nrows, rest @ ..] = args.as_slice() else {
-        return Err("usage: write_raster OUT.tif NCOLS NROWS [f32|f64|i32]".into());
+        return Err("usage: write_raster OUT.tif NCOLS NROWS [f32|f64|i32] [sparse]".into());
     };
     let sample = match rest.first().map(String::as_str) {
         None | Some("f32") => SampleType::F32,
@@ -86,6 +93,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         },
         crs: Crs::from_epsg(2154),
         counts: sample == SampleType::I32,
+        sparse: rest.get(1).map(String::as_str) == Some("sparse"),
     };
     let out = PathBuf::from(out);
     let start = Instant::now();
@@ -93,8 +101,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let seconds = start.elapsed().as_secs_f64();
     let bytes = std::fs::metadata(&out)?.len();
     println!(
-        "{}: {ncols} × {nrows} {sample:?} written in {seconds:.2} s, {bytes} bytes",
-        out.display()
+        "{}: {ncols} × {nrows} {sample:?}{} written in {seconds:.2} s, {bytes} bytes",
+        out.display(),
+        if raster.sparse { " sparse" } else { "" }
     );
     Ok(())
 }

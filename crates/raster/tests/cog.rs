@@ -9,28 +9,12 @@ use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
 
-use rockfall_raster::{Crs, Grid, GridGeometry, SampleType, geotiff};
+use rockfall_raster::{Grid, SampleType, geotiff};
 use tiff::decoder::{Decoder, DecodingResult};
 use tiff::tags::Tag;
 
-/// `ncols` × `nrows` cells of 2.5 m, Lambert-93; values from `value(row, col)`, nodata where
-/// it gives `None`.
-fn grid(ncols: usize, nrows: usize, value: impl Fn(usize, usize) -> Option<f64>) -> Grid<f64> {
-    let g = GridGeometry {
-        ncols,
-        nrows,
-        x_min_m: 912_000.5,
-        y_min_m: 6_456_000.25,
-        cell_size_m: 2.5,
-    };
-    Grid::from_fn(g, value).with_crs(Some(Crs::from_epsg(2154)))
-}
-
-/// A value exact in f32 (quarters), with a nodata cell every 7th and a pattern that changes
-/// across tile edges.
-fn quarters(r: usize, c: usize) -> Option<f64> {
-    ((r * 3 + c) % 7 != 2).then(|| ((r * 31 + c * 17) % 1001) as f64 * 0.25 - 100.0)
-}
+mod common;
+use common::{Rule, counts, expected_level, grid, quarters, ramp};
 
 const SIZES: [(usize, usize); 7] = [
     (1, 1),
@@ -236,49 +220,16 @@ fn level_values(path: &Path, index: usize) -> (usize, usize, Vec<f64>) {
     (w, h, values)
 }
 
-/// Overview level k of `g` computed from the definition, block by block: the mean of the
-/// valid cells (as f32), or the centre cell.
-fn expected_level(g: &Grid<f64>, k: u32, average: bool) -> Vec<f64> {
-    let (n, m) = (g.geometry().ncols, g.geometry().nrows);
-    let side = 1 << k;
-    let (w, h) = (n.div_ceil(side), m.div_ceil(side));
-    let block = |i: usize, len: usize| (i * side)..((i + 1) * side).min(len);
-    let mut out = Vec::new();
-    for i in 0..h {
-        for j in 0..w {
-            let (rows, cols) = (block(i, m), block(j, n));
-            out.push(if average {
-                let cells: Vec<f64> = (rows.clone())
-                    .flat_map(|r| cols.clone().filter_map(move |c| g.get(r, c)))
-                    .collect();
-                match cells.len() {
-                    0 => -9999.0,
-                    len => f64::from((cells.iter().sum::<f64>() / len as f64) as f32),
-                }
-            } else {
-                let centre = |b: std::ops::Range<usize>| (b.start + b.end) / 2;
-                g.get(centre(rows), centre(cols)).unwrap_or(-9999.0)
-            });
-        }
-    }
-    out
-}
-
 #[test]
 fn overviews_hold_block_means_of_floats_and_centre_cells_of_integers() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("g.tif");
-    // 600 × 520: levels 300 × 260 and 150 × 130; a nodata square of 4 × 4 cells at (8, 8)
-    // (a level-2 block with no valid cell), a ramp that differs in every cell of a block
-    let value = |r: usize, c: usize| {
-        let hole = (8..12).contains(&r) && (8..12).contains(&c) || (r + 2 * c) % 11 == 0;
-        (!hole).then(|| (r * 600 + c) as f64 * 0.5)
-    };
-    let g = grid(600, 520, value);
+    // 600 × 520: levels 300 × 260 and 150 × 130
+    let g = grid(600, 520, ramp);
     geotiff::write(&path, &g, SampleType::F32).unwrap();
     for k in 1..=2 {
         let (_, _, values) = level_values(&path, k as usize);
-        assert_eq!(values, expected_level(&g, k, true), "level {k}");
+        assert_eq!(values, expected_level(&g, k, Rule::MeanF32), "level {k}");
     }
     let (_, _, level2) = level_values(&path, 2);
     assert_eq!(
@@ -286,11 +237,15 @@ fn overviews_hold_block_means_of_floats_and_centre_cells_of_integers() {
         -9999.0,
         "the all-nodata block is nodata"
     );
-    let counts = grid(600, 520, |r, c| Some(((r * 7 + c * 13) % 50) as f64));
+    let counts = grid(600, 520, counts);
     geotiff::write(&path, &counts, SampleType::I32).unwrap();
     for k in 1..=2 {
         let (_, _, values) = level_values(&path, k as usize);
-        assert_eq!(values, expected_level(&counts, k, false), "level {k}");
+        assert_eq!(
+            values,
+            expected_level(&counts, k, Rule::Centre),
+            "level {k}"
+        );
     }
 }
 

@@ -12,6 +12,9 @@ use std::process::Command;
 use rockfall_raster::{Crs, Grid, GridGeometry, RasterError, SampleType, ascii_grid, geotiff};
 use serde_json::Value;
 
+mod common;
+use common::Rule;
+
 const X_MIN: f64 = 912345.5;
 const Y_MAX: f64 = 6456789.0;
 const CELL: f64 = 2.5;
@@ -243,5 +246,152 @@ fn gdal_tiles_and_strips_of_every_shape_read_back_in_place() {
         run("gdal_translate", &args);
         let back = geotiff::read(&theirs).unwrap_or_else(|e| panic!("{options:?}: {e}"));
         assert_eq!(back, expected, "{options:?}");
+    }
+}
+
+/// GDAL's COG validator, as Debian's python3-gdal installs it (a dependency of gdal-bin).
+const VALIDATOR: &str =
+    "/usr/lib/python3/dist-packages/osgeo_utils/samples/validate_cloud_optimized_geotiff.py";
+
+/// Runs GDAL's COG validator on `path` with the system Python (the one with the `osgeo`
+/// bindings) and asserts that it passes without warnings. `false` when the validator is not
+/// installed (a failure under `CI`).
+fn assert_valid_cog(path: &Path) -> bool {
+    if !Path::new(VALIDATOR).is_file() {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "{VALIDATOR} is missing: python3-gdal must be installed to validate COGs in CI"
+        );
+        eprintln!("notice: {VALIDATOR} not found; COG validation skipped (install python3-gdal)");
+        return false;
+    }
+    let out = Command::new("/usr/bin/python3")
+        .args([VALIDATOR, path.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}: {text}", path.display());
+    assert!(
+        text.contains("is a valid cloud optimized GeoTIFF"),
+        "{text}"
+    );
+    assert!(!text.contains("warning"), "{text}");
+    true
+}
+
+/// Every sample type and size class: tiles of 256, the overviews down to one tile, the type,
+/// the nodata marker, Deflate with its predictor, and GDAL's COG layout — and the validator
+/// passes without warnings.
+#[test]
+fn gdal_sees_valid_cogs() {
+    if !gdal_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let shapes: [(usize, usize, &[[u64; 2]]); 4] = [
+        (1, 1, &[]),
+        (256, 256, &[]),
+        (600, 520, &[[300, 260], [150, 130]]),
+        (1100, 257, &[[550, 129], [275, 65], [138, 33]]),
+    ];
+    let types = [
+        (SampleType::F32, "Float32", "3"),
+        (SampleType::F64, "Float64", "3"),
+        (SampleType::I32, "Int32", "2"),
+    ];
+    for (ncols, nrows, overviews) in shapes {
+        for (sample, gdal_type, predictor) in types {
+            let path = dir.path().join(format!("{ncols}x{nrows}-{gdal_type}.tif"));
+            let grid = common::grid(ncols, nrows, |r, c| {
+                (r * ncols + c != 0).then_some(((r * 7 + c * 3) % 100) as f64)
+            });
+            geotiff::write(&path, &grid, sample).unwrap();
+            let info = gdalinfo(&path);
+            let band = &info["bands"][0];
+            let what = format!("{}: {band:#}", path.display());
+            assert_eq!(band["block"], serde_json::json!([256, 256]), "{what}");
+            assert_eq!(band["type"], gdal_type, "{what}");
+            assert_eq!(band["noDataValue"].as_f64(), Some(-9999.0), "{what}");
+            let sizes: Vec<Value> = overviews
+                .iter()
+                .map(|s| serde_json::json!({ "size": s }))
+                .collect();
+            assert_eq!(
+                band["overviews"].as_array().cloned().unwrap_or_default(),
+                sizes,
+                "{what}"
+            );
+            let structure = &info["metadata"]["IMAGE_STRUCTURE"];
+            assert_eq!(structure["COMPRESSION"], "DEFLATE", "{what}");
+            assert_eq!(structure["PREDICTOR"], predictor, "{what}");
+            assert_eq!(structure["LAYOUT"], "COG", "{what}");
+            assert_valid_cog(&path);
+        }
+    }
+}
+
+/// The raw cells of `path` (overview `ovr` when given, 0 = the largest) as GDAL reads them:
+/// `gdal_translate` to ENVI (raw samples, little-endian) and the bytes decoded here.
+fn gdal_cells(path: &Path, ovr: Option<usize>, sample: SampleType) -> Vec<f64> {
+    let out = path.with_extension(format!("ovr{}.img", ovr.map_or(-1, |k| k as i64)));
+    let ovr = ovr.map(|k| k.to_string());
+    let mut args = vec!["-q", "-of", "ENVI"];
+    if let Some(k) = &ovr {
+        args.extend(["-ovr", k]);
+    }
+    args.extend([path.to_str().unwrap(), out.to_str().unwrap()]);
+    run("gdal_translate", &args);
+    let bytes = std::fs::read(&out).unwrap();
+    match sample {
+        SampleType::F32 => (bytes.chunks_exact(4))
+            .map(|b| f64::from(f32::from_le_bytes(b.try_into().unwrap())))
+            .collect(),
+        SampleType::F64 => (bytes.chunks_exact(8))
+            .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+            .collect(),
+        SampleType::I32 => (bytes.chunks_exact(4))
+            .map(|b| f64::from(i32::from_le_bytes(b.try_into().unwrap())))
+            .collect(),
+    }
+}
+
+/// GDAL reads the full resolution as we wrote it, bit for bit, and the overviews as the
+/// resampling rules give them from the grid, block by block: the mean of the valid cells for
+/// floats (nodata where a block has none), the centre cell for integers.
+#[test]
+fn gdal_reads_our_cells_and_overviews_exactly() {
+    if !gdal_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            common::grid(600, 520, common::ramp),
+            SampleType::F32,
+            Rule::MeanF32,
+        ),
+        (
+            common::grid(600, 520, common::ramp),
+            SampleType::F64,
+            Rule::MeanF64,
+        ),
+        (
+            common::grid(600, 520, common::counts),
+            SampleType::I32,
+            Rule::Centre,
+        ),
+    ];
+    for (grid, sample, rule) in cases {
+        let path = dir.path().join(format!("{sample:?}.tif"));
+        geotiff::write(&path, &grid, sample).unwrap();
+        let full: Vec<f64> = (grid.values().iter().zip(grid.mask()))
+            .map(|(&v, &ok)| if ok { v } else { -9999.0 })
+            .collect();
+        assert!(gdal_cells(&path, None, sample) == full, "{sample:?}");
+        for k in 1..=2 {
+            let expected = common::expected_level(&grid, k, rule);
+            let gdal = gdal_cells(&path, Some(k as usize - 1), sample);
+            assert!(gdal == expected, "{sample:?} level {k}");
+        }
     }
 }

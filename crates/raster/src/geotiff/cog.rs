@@ -138,6 +138,18 @@ pub(super) fn write<T: Sample>(
     rule: Resampling,
     sample: impl Fn(Option<f64>) -> Result<T, f64>,
 ) -> Result<(), Failure> {
+    write_as(path, rows, tags, rule, sample, Kind::Classic)
+}
+
+/// [`write`], as BigTIFF even when classic TIFF would do if `min` is [`Kind::Big`].
+fn write_as<T: Sample>(
+    path: &Path,
+    rows: &impl Rows,
+    tags: &GeoTags,
+    rule: Resampling,
+    sample: impl Fn(Option<f64>) -> Result<T, f64>,
+    min: Kind,
+) -> Result<(), Failure> {
     let g = rows.geometry();
     let marker = sample(None).map_err(|v| Failure::Cell((0, v)))?;
     let pad = if tags.nodata.is_some() {
@@ -169,7 +181,7 @@ pub(super) fn write<T: Sample>(
             levels[k].push(row, &mut coder, &mut packed)
         })?;
     }
-    crate::atomic::write_atomic(path, |w| assemble(w, levels, tags))
+    crate::atomic::write_atomic(path, |w| assemble(w, levels, tags, min))
 }
 
 /// The ghost area GDAL writes after the header (cog.rst, "Header ghost area"): a 43-byte
@@ -262,25 +274,15 @@ fn layout<T>(ifds: &[Ifd], levels: &[Level<T>], kind: Kind, ghost: u64) -> Layou
 }
 
 /// Writes the file: header, ghost area, IFDs, tile arrays, then the levels' tiles from the
-/// smallest to the full resolution. Classic TIFF when every offset fits in 32 bits, else
-/// BigTIFF.
+/// smallest to the full resolution, as `min` or a larger kind ([`plan`]).
 fn assemble<T: Sample>(
     w: &mut impl Write,
     levels: Vec<Level<T>>,
     tags: &GeoTags,
+    min: Kind,
 ) -> Result<(), Failure> {
     let ghost = ghost_area();
-    let ifds_of = |kind| -> Vec<Ifd> {
-        (levels.iter().enumerate())
-            .map(|(k, l)| ifd_of::<T>(k, (l.width, l.height), l.tiles(), tags, kind))
-            .collect()
-    };
-    let mut ifds = ifds_of(Kind::Classic);
-    let mut at = layout(&ifds, &levels, Kind::Classic, ghost.len() as u64);
-    if at.end > u64::from(u32::MAX) {
-        ifds = ifds_of(Kind::Big);
-        at = layout(&ifds, &levels, Kind::Big, ghost.len() as u64);
-    }
+    let (mut ifds, at) = plan(&levels, tags, ghost.len() as u64, min);
     let kind = at.kind;
     let mut written = put(w, &kind.header(at.first_ifd))?;
     written += put(w, &ghost)?;
@@ -303,8 +305,105 @@ fn assemble<T: Sample>(
     Ok(())
 }
 
+/// The IFDs and the layout of the file: classic TIFF when every offset fits in 32 bits (and
+/// `min` allows it), else BigTIFF.
+fn plan<T: Sample>(
+    levels: &[Level<T>],
+    tags: &GeoTags,
+    ghost: u64,
+    min: Kind,
+) -> (Vec<Ifd>, Layout) {
+    let ifds_of = |kind| -> Vec<Ifd> {
+        (levels.iter().enumerate())
+            .map(|(k, l)| ifd_of::<T>(k, (l.width, l.height), l.tiles(), tags, kind))
+            .collect()
+    };
+    if min == Kind::Classic {
+        let ifds = ifds_of(Kind::Classic);
+        let at = layout(&ifds, levels, Kind::Classic, ghost);
+        if at.end <= u64::from(u32::MAX) {
+            return (ifds, at);
+        }
+    }
+    let ifds = ifds_of(Kind::Big);
+    let at = layout(&ifds, levels, Kind::Big, ghost);
+    (ifds, at)
+}
+
 /// The tags whose values follow their IFD: all but the tile arrays, which follow the last
 /// IFD.
 fn in_ifd(tag: u16) -> bool {
     tag != TILE_OFFSETS && tag != TILE_BYTE_COUNTS
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Grid, GridGeometry};
+
+    fn tags() -> GeoTags {
+        GeoTags {
+            scale: [1.0, 1.0, 0.0],
+            tiepoint: [0.0; 6],
+            keys: Vec::new(),
+            nodata: Some("-9999".into()),
+        }
+    }
+
+    #[test]
+    fn bigtiff_once_an_offset_passes_32_bits() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut levels: Vec<Level<f32>> = (level_sizes(600, 300).into_iter())
+            .map(|s| Level::new(s, dir.path()).unwrap())
+            .collect();
+        let ghost = ghost_area().len() as u64;
+        // the overview's tiles take 100 bytes, the full resolution's (3 × 2) 6 GiB
+        levels[1].written = 100;
+        levels[0].written = 6 << 30;
+        let (_, at) = plan(&levels, &tags(), ghost, Kind::Classic);
+        assert_eq!(at.kind, Kind::Big);
+        levels[0].written = 3 << 30;
+        let (_, at) = plan(&levels, &tags(), ghost, Kind::Classic);
+        assert_eq!((at.kind, at.first_ifd), (Kind::Classic, 192));
+        assert!(at.end < 1 << 32 && at.data[0] + (3 << 30) == at.end);
+        // the overview's data comes first
+        assert!(at.data[1] < at.data[0]);
+        let (_, at) = plan(&levels, &tags(), ghost, Kind::Big);
+        assert_eq!((at.kind, at.first_ifd), (Kind::Big, 200));
+    }
+
+    /// A BigTIFF reads back as the classic file of the same grid does.
+    #[test]
+    fn a_bigtiff_cog_reads_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let g = GridGeometry {
+            ncols: 300,
+            nrows: 270,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 1.0,
+        };
+        let grid = Grid::from_fn(g, |r, c| ((r + c) % 9 != 0).then_some((r * 300 + c) as f64));
+        let sample = |v: Option<f64>| Ok::<_, f64>(v.unwrap_or(-9999.0) as f32);
+        let (big, classic) = (dir.path().join("big.tif"), dir.path().join("classic.tif"));
+        write_as(&big, &grid, &tags(), Resampling::Average, sample, Kind::Big)
+            .unwrap_or_else(|_| panic!());
+        write_as(
+            &classic,
+            &grid,
+            &tags(),
+            Resampling::Average,
+            sample,
+            Kind::Classic,
+        )
+        .unwrap_or_else(|_| panic!());
+        let bytes = std::fs::read(&big).unwrap();
+        assert_eq!(&bytes[..4], b"II+\0");
+        assert_eq!(&bytes[16..46], b"GDAL_STRUCTURAL_METADATA_SIZE=");
+        assert_eq!(
+            super::super::read(&big).unwrap(),
+            super::super::read(&classic).unwrap()
+        );
+        assert!(std::fs::read(&classic).unwrap().len() < bytes.len());
+    }
 }

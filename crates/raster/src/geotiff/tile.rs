@@ -75,7 +75,7 @@ impl Sample for f32 {
     }
 
     fn predict_row(row: &[Self], out: &mut Vec<u8>) {
-        float_predict(row.iter().map(|v| v.to_be_bytes()), row.len(), out);
+        float_predict(row, Self::to_be_bytes, out);
     }
 }
 
@@ -93,26 +93,25 @@ impl Sample for f64 {
     }
 
     fn predict_row(row: &[Self], out: &mut Vec<u8>) {
-        float_predict(row.iter().map(|v| v.to_be_bytes()), row.len(), out);
+        float_predict(row, Self::to_be_bytes, out);
     }
 }
 
-/// Technical Note 3's predictor on one row of `n` samples given as big-endian bytes.
-fn float_predict<const N: usize>(
-    samples: impl Iterator<Item = [u8; N]>,
-    n: usize,
+/// Technical Note 3's predictor on one row of samples, given by their big-endian bytes.
+fn float_predict<T: Copy, const N: usize>(
+    row: &[T],
+    be_bytes: impl Fn(T) -> [u8; N],
     out: &mut Vec<u8>,
 ) {
     let start = out.len();
-    out.resize(start + N * n, 0);
-    let row = &mut out[start..];
-    for (i, bytes) in samples.enumerate() {
-        for (b, &byte) in bytes.iter().enumerate() {
-            row[b * n + i] = byte;
-        }
+    // the planes: byte b of every sample, most significant first
+    for b in 0..N {
+        out.extend(row.iter().map(|&v| be_bytes(v)[b]));
     }
-    for j in (1..row.len()).rev() {
-        row[j] = row[j].wrapping_sub(row[j - 1]);
+    // each byte minus the one before it, from the end so that each still sees the original
+    let planes = &mut out[start..];
+    for j in (1..planes.len()).rev() {
+        planes[j] = planes[j].wrapping_sub(planes[j - 1]);
     }
 }
 
