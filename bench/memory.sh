@@ -13,7 +13,7 @@ work=${1:-${TMPDIR:-/tmp}/rockfall-memory}
 shift || true
 sizes=${*:-4000x4000 10000x10000}
 target=${CARGO_TARGET_DIR:-$here/target}
-(cd "$here" && cargo build --release -q -p rockfall-cli -p rockfall-raster --example big_site)
+(cd "$here" && cargo build --release -q -p rockfall-cli --bin rockfall -p rockfall-raster --example big_site)
 bin=${ROCKFALL:-$target/release/rockfall}
 mkdir -p "$work"
 printf '%-12s %12s %14s %12s %10s\n' cells grid "DEM (f64+mask)" "peak RSS" wall

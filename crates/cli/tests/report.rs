@@ -291,6 +291,21 @@ fn every_geotiff_opens_in_gdal_on_the_site_grid_with_its_qgis_style() {
     }
     for tif in &tifs {
         assert_site_grid(tif);
+        // Cloud-Optimised (one 256 × 256 tile on this 60 × 142 site); counts as Int32
+        let info = gdalinfo(tif);
+        let band = &info["bands"][0];
+        let name = tif.file_stem().unwrap().to_str().unwrap();
+        let expected = if name.starts_with("Nr_") {
+            "Int32"
+        } else {
+            "Float32"
+        };
+        assert_eq!(band["type"], expected, "{name}");
+        assert_eq!(band["block"], serde_json::json!([256, 256]), "{name}");
+        assert_eq!(
+            info["metadata"]["IMAGE_STRUCTURE"]["LAYOUT"], "COG",
+            "{name}"
+        );
     }
 }
 

@@ -5,11 +5,12 @@
 //! rotation-free `ModelTransformation`), the CRS by the EPSG code in the GeoKey directory and
 //! the nodata marker by GDAL's `GDAL_NODATA` ASCII tag.
 //!
-//! Files are written as Cloud-Optimised GeoTIFFs ([`cog`]): tiles of [`TILE`] × [`TILE`]
-//! cells, Deflate with a predictor ([`tile`]), internal overviews ([`overview`]: the mean of
-//! valid cells for floats, the centre cell for integers), in the layout GDAL's COG driver
-//! writes; classic TIFF, or BigTIFF when the file would pass 4 GiB. They are written row by
-//! row: about two bands of [`TILE`] rows in memory.
+//! Files are written as Cloud-Optimised GeoTIFFs (`geotiff/cog.rs`): tiles of [`TILE`] ×
+//! [`TILE`] cells, Deflate with a predictor (`tile.rs`), internal overviews (`overview.rs`:
+//! the mean of valid cells for floats, the centre cell for integers), in the layout GDAL's
+//! COG driver writes (`ifd.rs`: the TIFF structure); classic TIFF, or BigTIFF when the file
+//! would pass 4 GiB. They are written row by row: about two bands of [`TILE`] rows in memory.
+//! Reading takes the first IFD, the full resolution, and ignores the overviews.
 
 use std::fs::File;
 use std::io::{BufReader, Read, Seek};
@@ -45,7 +46,9 @@ const REL_TOL: f64 = 1e-9;
 /// Reads a GeoTIFF: single band, f32/f64/i8/i16/i32/u8/u16/u32 samples, strips or tiles,
 /// any compression the `tiff` crate decodes, classic or BigTIFF, into a `Grid<f64>`. Strips
 /// and tiles are decoded one at a time into the grid: beside the grid (9 bytes a cell), only
-/// one chunk is in memory.
+/// one chunk is in memory. Predictors 1–3 are undone; of a file with overviews (a COG) the
+/// first IFD, the full resolution, is read. A strip or tile that ends past the end of the
+/// file is an error (a truncated file).
 ///
 /// Cells equal to the `GDAL_NODATA` value (compared at the file's sample precision) and
 /// non-finite cells are nodata; the marker is kept as [`Grid::nodata_value`]. The CRS is the

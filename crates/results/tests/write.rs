@@ -187,3 +187,47 @@ fn forest_effect_is_the_difference_of_two_runs() {
     assert!(serde_json::from_str::<serde_json::Value>(&text).is_ok());
     assert_eq!(text, serde_json::to_string_pretty(&s).unwrap() + "\n");
 }
+
+/// Counts (`Nr_*`) are written as integers in both formats: ASCII tokens without a fraction
+/// (a Rockyfor3D user's scripts read them as integers), and in the GeoTIFF as whole numbers
+/// (GDAL reads them as Int32: crates/cli/tests/report.rs); the other rasters stay floats.
+#[test]
+fn count_rasters_are_integers_in_both_formats() {
+    let r = run(0..200);
+    let dir = tempfile::tempdir().unwrap();
+    r.write(dir.path(), true).unwrap();
+    let mut counts = 0;
+    for name in r.raster_names().iter().filter(|n| n.starts_with("Nr_")) {
+        counts += 1;
+        let text = std::fs::read_to_string(dir.path().join(format!("{name}.asc"))).unwrap();
+        // the 5 header lines (no NODATA_value: counts have none), then the cells
+        assert!(!text.contains("NODATA_value"), "{name}");
+        let cells: Vec<&str> = text
+            .lines()
+            .skip(5)
+            .flat_map(str::split_whitespace)
+            .collect();
+        assert_eq!(cells.len(), layout().geometry.len(), "{name}");
+        for token in &cells {
+            assert!(
+                token.parse::<u32>().is_ok(),
+                "{name}: `{token}` is not a count"
+            );
+        }
+        // the GeoTIFF holds the same integers
+        let tif = read_grid(&dir.path().join(format!("{name}.tif"))).unwrap();
+        let asc = read_grid(&dir.path().join(format!("{name}.asc"))).unwrap();
+        assert_eq!(tif.values(), asc.values(), "{name}");
+    }
+    assert_eq!(counts, 5);
+    let passages = std::fs::read_to_string(dir.path().join("Nr_passages.asc")).unwrap();
+    assert!(
+        passages
+            .lines()
+            .skip(5)
+            .any(|l| l.split(' ').any(|t| t != "0"))
+    );
+    // a float raster keeps its fractions
+    let text = std::fs::read_to_string(dir.path().join("E_mean.asc")).unwrap();
+    assert!(text.lines().skip(6).any(|l| l.contains('.')));
+}

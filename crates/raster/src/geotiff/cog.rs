@@ -104,7 +104,7 @@ impl<T: Sample> Level<T> {
     ) -> io::Result<()> {
         self.band.extend_from_slice(row);
         self.rows += 1;
-        if self.rows % TILE != 0 && self.rows != self.height {
+        if !self.rows.is_multiple_of(TILE) && self.rows != self.height {
             return Ok(());
         }
         for col0 in (0..self.width).step_by(TILE) {

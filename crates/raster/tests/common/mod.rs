@@ -26,7 +26,7 @@ pub fn quarters(r: usize, c: usize) -> Option<f64> {
 /// A ramp that differs in every cell, with nodata on a diagonal pattern and a 4 × 4 nodata
 /// square at (8, 8): a level-2 block without a valid cell.
 pub fn ramp(r: usize, c: usize) -> Option<f64> {
-    let hole = (8..12).contains(&r) && (8..12).contains(&c) || (r + 2 * c) % 11 == 0;
+    let hole = (8..12).contains(&r) && (8..12).contains(&c) || (r + 2 * c).is_multiple_of(11);
     (!hole).then(|| (r * 600 + c) as f64 * 0.5)
 }
 
