@@ -326,6 +326,18 @@ fn gdal_sees_valid_cogs() {
             assert_eq!(structure["PREDICTOR"], predictor, "{what}");
             assert_eq!(structure["LAYOUT"], "COG", "{what}");
             assert_valid_cog(&path);
+            // GDAL's own COG driver, with our tile size, makes the same overview levels
+            let theirs = path.with_extension("gdal.tif");
+            let (from, to) = (path.to_str().unwrap(), theirs.to_str().unwrap());
+            run(
+                "gdal_translate",
+                &["-q", "-of", "COG", "-co", "BLOCKSIZE=256", from, to],
+            );
+            assert_eq!(
+                gdalinfo(&theirs)["bands"][0]["overviews"],
+                band["overviews"],
+                "{what}"
+            );
         }
     }
 }

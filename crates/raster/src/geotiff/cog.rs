@@ -129,8 +129,8 @@ impl<T: Sample> Level<T> {
 }
 
 /// Writes `rows` as a COG at `path` (atomically), each cell through `sample` (nodata cells
-/// too: `sample(None)` is the marker), overviews by `rule`. `has_nodata`: the file names a
-/// nodata marker (`tags.nodata`); edge tiles are padded with it, else with zero.
+/// too: `sample(None)` is the marker), overviews by `rule`. Edge tiles are padded with the
+/// marker when the file names one (`tags.nodata`), else with zero.
 pub(super) fn write<T: Sample>(
     path: &Path,
     rows: &impl Rows,
@@ -150,17 +150,29 @@ fn write_as<T: Sample>(
     sample: impl Fn(Option<f64>) -> Result<T, f64>,
     min: Kind,
 ) -> Result<(), Failure> {
-    let g = rows.geometry();
     let marker = sample(None).map_err(|v| Failure::Cell((0, v)))?;
-    let pad = if tags.nodata.is_some() {
-        marker
-    } else {
-        T::from_f64(0.0)
+    let pad = match tags.nodata {
+        Some(_) => marker,
+        None => T::from_f64(0.0),
     };
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
+    let levels = tile_levels(rows, rule, &sample, (marker, pad), dir)?;
+    crate::atomic::write_atomic(path, |w| assemble(w, levels, tags, min))
+}
+
+/// Every level's tiles, compressed into its temporary file in `dir`: the rows read north to
+/// south, each converted by `sample`, pushed into the full resolution and the overviews.
+fn tile_levels<T: Sample>(
+    rows: &impl Rows,
+    rule: Resampling,
+    sample: &impl Fn(Option<f64>) -> Result<T, f64>,
+    (marker, pad): (T, T),
+    dir: &Path,
+) -> Result<Vec<Level<T>>, Failure> {
+    let g = rows.geometry();
     let sizes = level_sizes(g.ncols, g.nrows);
     let mut levels = (sizes.iter())
         .map(|&s| Level::new(s, dir))
@@ -181,7 +193,7 @@ fn write_as<T: Sample>(
             levels[k].push(row, &mut coder, &mut packed)
         })?;
     }
-    crate::atomic::write_atomic(path, |w| assemble(w, levels, tags, min))
+    Ok(levels)
 }
 
 /// The ghost area GDAL writes after the header (cog.rst, "Header ghost area"): a 43-byte

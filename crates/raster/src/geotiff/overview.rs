@@ -1,10 +1,11 @@
 //! Reduced-resolution levels (overviews) of a raster, built row by row as the full-resolution
 //! rows arrive.
 //!
-//! Level k (k ≥ 1) has ⌈ncols / 2^k⌉ × ⌈nrows / 2^k⌉ cells, GDAL's overview sizes for the
-//! factor 2^k (`DIV_ROUND_UP`, `gcore/gdaldefaultoverviews.cpp`); GDAL's COG driver makes
-//! levels until the smallest fits in one tile (`OVERVIEW_COUNT`, doc/source/drivers/raster/
-//! cog.rst), and so do we. Its cell (i, j) stands for the full-resolution *block*
+//! Level k (k ≥ 1) has ⌈ncols / 2^k⌉ × ⌈nrows / 2^k⌉ cells, and levels are made until the
+//! smallest fits in one tile: the default of GDAL's COG driver ("the dimensions of the
+//! smallest overview are smaller or equal to the BLOCKSIZE value", `OVERVIEW_COUNT`,
+//! doc/source/drivers/raster/cog.rst), whose sizes for `BLOCKSIZE=256` ours equal (tested
+//! against `gdal_translate -of COG`). Its cell (i, j) stands for the full-resolution *block*
 //! rows [i·2^k, (i+1)·2^k) × columns [j·2^k, (j+1)·2^k), cut by the grid's edges. (GDAL
 //! reads an overview as covering the whole extent, so at the east and south edges of a grid
 //! whose size is not a multiple of 2^k an overview cell is up to one block wider than the
