@@ -19,6 +19,9 @@ pub enum InputError {
     /// A rock shape file could not be read or has no usable points.
     #[error(transparent)]
     Shape(#[from] crate::shape::ShapeFileError),
+    /// A vector layer (GeoJSON, Shapefile, GeoPackage) cannot be read or used.
+    #[error(transparent)]
+    Vector(#[from] crate::vector::VectorError),
     /// A file could not be read or written.
     #[error("{path}: {source}")]
     Io {

@@ -20,6 +20,7 @@ pub mod scenario_file;
 mod schema;
 pub mod shape;
 pub mod trees;
+pub mod vector;
 pub mod write;
 
 pub use error::InputError;

@@ -1,6 +1,8 @@
 //! Scenario files (TOML) → [`Scenario`].
 
-use crate::schema::{self, Param};
+use crate::schema::{self, LayerRef, Param};
+use crate::vector::inputs::{self, Frame, Outside};
+use crate::vector::{self as vec_io, is_vector_path};
 use crate::{InputError, scenario_error, trees};
 use rockfall_forest::StandOptions;
 use rockfall_raster::{Crs, Field, Grid, read_grid};
@@ -30,6 +32,8 @@ pub fn read_scenario(path: &Path) -> Result<Scenario, InputError> {
         base,
         file: path.to_path_buf(),
         sources: BTreeMap::new(),
+        frame: None,
+        notes: Vec::new(),
     };
     let scenario = r.build(file, path)?;
     scenario
@@ -45,6 +49,21 @@ struct Resolver {
     base: PathBuf,
     file: PathBuf,
     sources: BTreeMap<String, PathBuf>,
+    /// The DEM's grid and CRS, once read: what vector layers are checked against and burnt on.
+    frame: Option<Frame>,
+    /// What reading found worth saying (printed by `check`).
+    notes: Vec<String>,
+}
+
+/// What a per-cell key burnt from polygons takes outside every polygon: its default, except
+/// for keys without one (r_n, the rock's dimensions and shape: an error) and the stand keys
+/// (no value: no stand there). Ours: the scenario format has no other place to say it.
+fn outside(param: &str, default: f64) -> Outside {
+    match param {
+        "r_n" | "rock.d1_m" | "rock.d2_m" | "rock.d3_m" | "rock.blshape" => Outside::Error,
+        "nrtrees" | "dbhmean" | "dbhstd" => Outside::Nodata,
+        _ => Outside::Default(default),
+    }
 }
 
 impl Resolver {
@@ -69,6 +88,42 @@ impl Resolver {
             None => Ok(Field::Const(default)),
             Some(Param::Num(v)) => Ok(Field::Const(v)),
             Some(Param::Path(s)) => Ok(Field::Grid(self.grid(param, &s)?)),
+            Some(Param::Vector(v)) => {
+                let layer = self.layer(param, &v.vector, v.layer.as_deref())?;
+                let frame = self.frame()?;
+                let (grid, cells) =
+                    inputs::field_grid(&layer, &v.field, &frame, outside(param, default), param)?;
+                self.notes.push(inputs::describe(param, &layer, cells));
+                Ok(Field::Grid(grid))
+            }
+        }
+    }
+
+    fn frame(&self) -> Result<Frame, InputError> {
+        self.frame
+            .clone()
+            .ok_or_else(|| self.invalid("terrain", "vector inputs need the DEM read first"))
+    }
+
+    /// Reads a vector layer named by the scenario, checked against the DEM's CRS.
+    fn layer(
+        &mut self,
+        param: &str,
+        p: &str,
+        layer: Option<&str>,
+    ) -> Result<vec_io::Layer, InputError> {
+        let path = self.path(p);
+        self.sources.insert(param.into(), path.clone());
+        let frame = self.frame()?;
+        Ok(inputs::open(&path, layer, &frame, &mut self.notes)?)
+    }
+
+    /// A layer reference: (path, layer) when it names a vector file, else the raster path.
+    fn layer_ref(r: LayerRef) -> Result<(String, Option<String>), String> {
+        match r {
+            LayerRef::Path(p) if is_vector_path(Path::new(&p)) => Ok((p, None)),
+            LayerRef::Path(p) => Err(p),
+            LayerRef::Vector { vector, layer } => Ok((vector, layer)),
         }
     }
 
@@ -85,14 +140,7 @@ impl Resolver {
         let rock = self.rock(f.rock)?;
         let release = self.release(f.release, &terrain)?;
         let forest = f.forest.map(|s| self.forest(s)).transpose()?;
-        let nets = match f.nets {
-            None => None,
-            Some(n) => Some(Nets {
-                number: self.field("net_number", Some(n.number), 0.0)?,
-                energy_kj: self.field("net_energy", Some(n.energy_kj), 0.0)?,
-                height_m: self.field("net_height", Some(n.height_m), 0.0)?,
-            }),
-        };
+        let nets = f.nets.map(|n| self.nets(n)).transpose()?;
         let screens = f
             .screens
             .into_iter()
@@ -127,7 +175,7 @@ impl Resolver {
             simulation,
             output,
             sources: std::mem::take(&mut self.sources),
-            notes: Vec::new(),
+            notes: std::mem::take(&mut self.notes),
         })
     }
 
@@ -136,6 +184,10 @@ impl Resolver {
         if let Some(code) = t.epsg {
             dem_grid.set_crs(Some(Crs::from_epsg(code)));
         }
+        self.frame = Some(Frame {
+            geometry: *dem_grid.geometry(),
+            crs: dem_grid.crs().cloned(),
+        });
         let dem_path = self.path(&t.dem);
         let dem = Dem::new(dem_grid).map_err(|e| InputError::invalid(&dem_path, e.to_string()))?;
         let surface = SurfaceMap {
@@ -234,9 +286,17 @@ impl Resolver {
     }
 
     fn release(&mut self, r: schema::ReleaseSec, terrain: &Terrain) -> Result<Release, InputError> {
-        let cells = match &r.cells {
+        let cells = match r.cells.map(Self::layer_ref) {
             None => Vec::new(),
-            Some(p) => {
+            Some(Ok((p, layer))) => {
+                let l = self.layer("release.cells", &p, layer.as_deref())?;
+                let cells = inputs::release_cells(&l, &self.frame()?)?;
+                self.notes
+                    .push(inputs::describe("release.cells", &l, cells.len()));
+                cells
+            }
+            Some(Err(p)) => {
+                let p = &p;
                 let g = self.grid("release.cells", p)?;
                 let path = self.path(p);
                 terrain
@@ -283,9 +343,25 @@ impl Resolver {
             || f.dbh_mean_cm.is_some()
             || f.dbh_sd_cm.is_some()
             || f.conifer_percent.is_some();
-        let lists = [f.trees_csv.is_some(), f.treefile.is_some(), stands_given];
+        let lists = [
+            f.trees.is_some(),
+            f.trees_csv.is_some(),
+            f.treefile.is_some(),
+            stands_given,
+        ];
         if lists.iter().filter(|g| **g).count() != 1 {
-            return Err(self.invalid("forest", "give exactly one of `trees_csv`, `treefile` or stands (`stems_per_ha`, `dbh_mean_cm`, `dbh_sd_cm`, `conifer_percent`)"));
+            return Err(self.invalid("forest", "give exactly one of `trees` (a point layer), `trees_csv`, `treefile` or stands (`stems_per_ha`, `dbh_mean_cm`, `dbh_sd_cm`, `conifer_percent`)"));
+        }
+        if let Some(r) = f.trees {
+            let (p, layer) = Self::layer_ref(r).map_err(|p| {
+                self.invalid("forest.trees", format!("`{p}` is not a vector file (.geojson, .json, .shp, .gpkg); tree lists go in `trees_csv`"))
+            })?;
+            let l = self.layer("forest.trees", &p, layer.as_deref())?;
+            let stems = inputs::stems(&l, &self.frame()?)?;
+            self.notes.push(
+                inputs::describe("forest.trees", &l, stems.len()).replace("cells covered", "stems"),
+            );
+            return Ok(ForestSpec::Stems(stems));
         }
         if let Some(p) = f.trees_csv.or(f.treefile.clone()) {
             let path = self.path(&p);
@@ -328,6 +404,42 @@ impl Resolver {
                 dbh_max_cm: f.dbh_max_cm.unwrap_or(defaults.dbh_max_cm),
             },
         })))
+    }
+
+    fn nets(&mut self, n: schema::NetsSec) -> Result<Nets, InputError> {
+        match (n.lines, n.number, n.energy_kj, n.height_m) {
+            (Some(r), None, None, None) => {
+                let (p, layer) = Self::layer_ref(r).map_err(|p| {
+                    self.invalid(
+                        "nets.lines",
+                        format!("`{p}` is not a vector file (.geojson, .json, .shp, .gpkg)"),
+                    )
+                })?;
+                let l = self.layer("net_number", &p, layer.as_deref())?;
+                let frame = self.frame()?;
+                let lines = inputs::net_lines(&l, &frame)?;
+                let cells: usize = lines.iter().map(|n| n.cells.len()).sum();
+                self.notes.push(inputs::describe("nets.lines", &l, cells));
+                for key in ["net_energy", "net_height"] {
+                    self.sources.insert(key.into(), self.path(&p));
+                }
+                let [number, energy_kj, height_m] = inputs::net_grids(&lines, &frame);
+                Ok(Nets {
+                    number: Field::Grid(number),
+                    energy_kj: Field::Grid(energy_kj),
+                    height_m: Field::Grid(height_m),
+                })
+            }
+            (None, Some(number), Some(energy_kj), Some(height_m)) => Ok(Nets {
+                number: self.field("net_number", Some(number), 0.0)?,
+                energy_kj: self.field("net_energy", Some(energy_kj), 0.0)?,
+                height_m: self.field("net_height", Some(height_m), 0.0)?,
+            }),
+            _ => Err(self.invalid(
+                "nets",
+                "give either `lines` (a line layer) or all of `number`, `energy_kj` and `height_m`",
+            )),
+        }
     }
 
     fn lumped(&self, l: Option<schema::LumpedSec>) -> Result<LumpedSettings, InputError> {

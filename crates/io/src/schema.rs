@@ -4,8 +4,8 @@
 
 use serde::Deserialize;
 
-/// A per-cell parameter: a number (constant everywhere) or a raster path (`.asc`/`.tif`),
-/// relative to the scenario file's folder.
+/// A per-cell parameter: a number (constant everywhere), a raster path (`.asc`/`.tif`),
+/// relative to the scenario file's folder, or a polygon layer's attribute.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(untagged)]
 pub enum Param {
@@ -13,6 +13,35 @@ pub enum Param {
     Num(f64),
     /// Raster path.
     Path(String),
+    /// `{ vector = "file", field = "attr", layer = "name" }`.
+    Vector(VectorParam),
+}
+
+/// A polygon layer's numeric attribute as a per-cell parameter.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VectorParam {
+    /// The vector file (`.geojson`, `.json`, `.shp`, `.gpkg`).
+    pub vector: String,
+    /// The attribute.
+    pub field: String,
+    /// The layer; needed only for a GeoPackage of several layers.
+    pub layer: Option<String>,
+}
+
+/// A layer (release polygons, tree points, net lines): a path, or a table naming the layer.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum LayerRef {
+    /// A file path (a raster, for `[release] cells`, or a vector file).
+    Path(String),
+    /// `{ vector = "file", layer = "name" }`.
+    Vector {
+        /// The vector file.
+        vector: String,
+        /// The layer.
+        layer: Option<String>,
+    },
 }
 
 #[derive(Debug, Deserialize)]
@@ -64,7 +93,7 @@ pub struct RockSec {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ReleaseSec {
-    pub cells: Option<String>,
+    pub cells: Option<LayerRef>,
     pub height_m: Option<f64>,
     pub velocity_ms: Option<[f64; 3]>,
     #[serde(default)]
@@ -85,6 +114,7 @@ pub struct PointSec {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ForestSec {
+    pub trees: Option<LayerRef>,
     pub trees_csv: Option<String>,
     pub treefile: Option<String>,
     pub stems_per_ha: Option<Param>,
@@ -100,9 +130,10 @@ pub struct ForestSec {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct NetsSec {
-    pub number: Param,
-    pub energy_kj: Param,
-    pub height_m: Param,
+    pub lines: Option<LayerRef>,
+    pub number: Option<Param>,
+    pub energy_kj: Option<Param>,
+    pub height_m: Option<Param>,
 }
 
 #[derive(Debug, Deserialize)]

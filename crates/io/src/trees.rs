@@ -200,49 +200,53 @@ impl Columns {
         let x_m = num(self.x, "x")?;
         let y_m = num(self.y, "y")?;
         let dbh_cm = num(self.dbh, "DBH")?;
-        if dbh_cm <= 0.0 {
-            return Err(row_err(
-                path,
-                line,
-                format!("DBH must be positive, found {dbh_cm} cm"),
-            ));
-        }
-        let species = match self
-            .species
-            .and_then(|i| f.get(i))
-            .filter(|t| !t.is_empty())
-        {
-            None => Species::Unknown,
-            Some(&"1") => Species::OtherConifer,
-            Some(&"0") => Species::OtherBroadleaf,
-            Some(t) => Species::parse(t)
-                .ok_or_else(|| row_err(path, line, format!("unknown species `{t}`")))?,
-        };
+        let species = (self.species.and_then(|i| f.get(i).copied())).filter(|t| !t.is_empty());
         let height_m = match self
             .height
             .filter(|&i| f.get(i).is_some_and(|t| !t.is_empty()))
         {
-            Some(i) => {
-                let h = num(i, "height")?;
-                if h <= 1.3 {
-                    return Err(row_err(
-                        path,
-                        line,
-                        format!("height must exceed breast height 1.3 m, found {h} m"),
-                    ));
-                }
-                h
-            }
-            None => height_from_dbh_m(dbh_cm),
+            Some(i) => Some(num(i, "height")?),
+            None => None,
         };
-        Ok(Stem {
-            x_m,
-            y_m,
-            dbh_cm,
-            height_m,
-            species,
-        })
+        make_stem(x_m, y_m, dbh_cm, species, height_m).map_err(|m| row_err(path, line, m))
     }
+}
+
+/// A stem from a tree list's values, checked: DBH positive, a known species (a name or code,
+/// `conifer`/`broadleaf`, or a conifer flag 1/0; none is unknown), a height above breast
+/// height (none: from the DBH allometry). Shared by tree lists and tree point layers.
+pub(crate) fn make_stem(
+    x_m: f64,
+    y_m: f64,
+    dbh_cm: f64,
+    species: Option<&str>,
+    height_m: Option<f64>,
+) -> Result<Stem, String> {
+    if !(dbh_cm > 0.0) {
+        return Err(format!("DBH must be positive, found {dbh_cm} cm"));
+    }
+    let species = match species {
+        None => Species::Unknown,
+        Some("1") => Species::OtherConifer,
+        Some("0") => Species::OtherBroadleaf,
+        Some(t) => Species::parse(t).ok_or_else(|| format!("unknown species `{t}`"))?,
+    };
+    let height_m = match height_m {
+        Some(h) if !(h > 1.3) => {
+            return Err(format!(
+                "height must exceed breast height 1.3 m, found {h} m"
+            ));
+        }
+        Some(h) => h,
+        None => height_from_dbh_m(dbh_cm),
+    };
+    Ok(Stem {
+        x_m,
+        y_m,
+        dbh_cm,
+        height_m,
+        species,
+    })
 }
 
 #[cfg(test)]

@@ -127,7 +127,28 @@ fn epsg_of_wkt(wkt: &str) -> Option<u32> {
         .iter()
         .find(|k| k.name.eq_ignore_ascii_case(&name) || wkt_name(k.wkt).as_deref() == Some(&name))
         .map(|k| k.epsg)
+        .or_else(|| {
+            (ESRI_NAMES.iter())
+                .find(|(n, _)| n.eq_ignore_ascii_case(&name))
+                .map(|(_, c)| *c)
+        })
 }
+
+/// The names ESRI-flavoured WKT (the `.prj` of a Shapefile, which carries no EPSG code) gives
+/// the CRSs of [`KNOWN`], as `gdalsrsinfo -o wkt_esri EPSG:code` prints them.
+const ESRI_NAMES: [(&str, u32); 11] = [
+    ("RGF_1993_Lambert_93", 2154),
+    ("CH1903+_LV95", 2056),
+    ("CH1903_LV03", 21781),
+    ("GCS_WGS_1984", 4326),
+    ("WGS_1984_Web_Mercator_Auxiliary_Sphere", 3857),
+    ("ETRS_1989_UTM_Zone_32N", 25832),
+    ("ETRS_1989_UTM_Zone_33N", 25833),
+    ("WGS_1984_UTM_Zone_32N", 32632),
+    ("WGS_1984_UTM_Zone_33N", 32633),
+    ("MGI_Austria_Lambert", 31287),
+    ("ETRS_1989_LAEA", 3035),
+];
 
 /// The quoted name of the root node of a WKT.
 fn wkt_name(wkt: &str) -> Option<String> {
@@ -153,6 +174,16 @@ mod tests {
         let crs = Crs::from_wkt(r#"PROJCS["My_Local_Grid",GEOGCS["x"]]"#);
         assert_eq!(crs.epsg, None);
         assert_eq!(crs.describe(), "My_Local_Grid");
+    }
+
+    #[test]
+    fn esri_prj_names_give_the_epsg_code() {
+        let prj = r#"PROJCS["RGF_1993_Lambert_93",GEOGCS["GCS_RGF_1993",DATUM["D_RGF_1993",SPHEROID["GRS_1980",6378137.0,298.257222101]]],PROJECTION["Lambert_Conformal_Conic"],UNIT["Meter",1.0]]"#;
+        assert_eq!(Crs::from_wkt(prj).epsg, Some(2154));
+        assert_eq!(
+            Crs::from_wkt(r#"PROJCS["ETRS_1989_UTM_Zone_32N"]"#).epsg,
+            Some(25832)
+        );
     }
 
     #[test]

@@ -1,0 +1,333 @@
+//! Vector layers as scenario inputs: per-cell parameters from polygon attributes, release
+//! areas from polygons, stems from points, nets from lines — each checked against the DEM's
+//! CRS and extent, and described for `rockfall check`.
+
+use super::burn::{line_cells, polygon_cells};
+use super::{Feature, Geometry, Layer, Value, VectorError, Xy, read_layer, same_crs};
+use rockfall_forest::Stem;
+use rockfall_raster::{Crs, Grid, GridGeometry};
+use std::path::Path;
+
+/// The DEM's grid and CRS, which every vector is checked against and burnt onto.
+#[derive(Debug, Clone)]
+pub struct Frame {
+    /// The DEM's grid.
+    pub geometry: GridGeometry,
+    /// The DEM's CRS, if known.
+    pub crs: Option<Crs>,
+}
+
+/// What a per-cell parameter takes in the cells no polygon holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Outside {
+    /// The key's default.
+    Default(f64),
+    /// No value (nodata): for stand keys, no stand there.
+    Nodata,
+    /// Nothing: an error, for keys without a default.
+    Error,
+}
+
+/// Reads a layer and checks its CRS against the DEM's: different known CRSs are an error
+/// naming both; where either is unknown the layer is taken as it is and `notes` says so.
+pub fn open(
+    path: &Path,
+    layer: Option<&str>,
+    frame: &Frame,
+    notes: &mut Vec<String>,
+) -> Result<Layer, VectorError> {
+    let l = read_layer(path, layer)?;
+    match (&l.crs, &frame.crs) {
+        (Some(a), Some(b)) if !same_crs(a, b) => {
+            return Err(VectorError::layer(
+                &l,
+                format!(
+                    "its CRS {} is not the DEM's {}: reproject the layer (e.g. `ogr2ogr -t_srs`)",
+                    a.describe(),
+                    b.describe()
+                ),
+            ));
+        }
+        (Some(_), Some(_)) => {}
+        (None, _) => notes.push(format!(
+            "{} layer `{}`: no CRS given; taken to be the DEM's",
+            path.display(),
+            l.name
+        )),
+        (Some(_), None) => notes.push(format!(
+            "{} layer `{}`: the DEM has no CRS; the layer's coordinates are taken as the DEM's",
+            path.display(),
+            l.name
+        )),
+    }
+    Ok(l)
+}
+
+fn polygons<'a>(layer: &Layer, f: &'a Feature) -> Result<Vec<&'a [Xy]>, VectorError> {
+    match &f.geometry {
+        Geometry::Polygons(ps) => Ok(ps.iter().flatten().map(Vec::as_slice).collect()),
+        Geometry::Empty => Ok(Vec::new()),
+        g => Err(VectorError::feature(
+            layer,
+            f.id,
+            format!("{} where polygons are needed", g.kind()),
+        )),
+    }
+}
+
+fn number(layer: &Layer, f: &Feature, field: &str) -> Result<Option<f64>, VectorError> {
+    match f.attribute(field) {
+        None => Err(VectorError::feature(
+            layer,
+            f.id,
+            format!("no field `{field}`"),
+        )),
+        Some(Value::Null) => Ok(None),
+        Some(Value::Num(v)) if v.is_finite() => Ok(Some(*v)),
+        Some(Value::Num(v)) => Err(VectorError::feature(
+            layer,
+            f.id,
+            format!("field `{field}` is {v}, not a finite number"),
+        )),
+        Some(Value::Text(t)) => match t.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(Some(v)),
+            _ => Err(VectorError::feature(
+                layer,
+                f.id,
+                format!("field `{field}` holds `{t}`, not a number"),
+            )),
+        },
+    }
+}
+
+fn no_overlap(layer: &Layer, frame: &Frame) -> VectorError {
+    let g = &frame.geometry;
+    VectorError::layer(
+        layer,
+        format!(
+            "no feature covers a cell of the DEM (x {}–{} m, y {}–{} m)",
+            g.x_min_m,
+            g.x_max_m(),
+            g.y_min_m,
+            g.y_max_m()
+        ),
+    )
+}
+
+/// A per-cell parameter from the attribute `field` of a polygon layer: each cell takes the
+/// value of the polygon holding its centre; where polygons overlap the one later in the
+/// layer wins (GDAL burns features in layer order); a feature whose field is null burns
+/// nothing. Returns the raster and the number of cells the polygons cover.
+pub fn field_grid(
+    layer: &Layer,
+    field: &str,
+    frame: &Frame,
+    outside: Outside,
+    key: &str,
+) -> Result<(Grid<f64>, usize), VectorError> {
+    let g = frame.geometry;
+    let mut cells: Vec<Option<f64>> = vec![None; g.len()];
+    let mut covered = 0;
+    for f in &layer.features {
+        let rings = polygons(layer, f)?;
+        let Some(v) = number(layer, f, field)? else {
+            continue;
+        };
+        for c in polygon_cells(&g, &rings) {
+            covered += usize::from(cells[c].is_none());
+            cells[c] = Some(v);
+        }
+    }
+    if covered == 0 {
+        return Err(no_overlap(layer, frame));
+    }
+    let missing = g.len() - covered;
+    match outside {
+        Outside::Default(d) => cells.iter_mut().for_each(|c| *c = c.or(Some(d))),
+        Outside::Nodata => {}
+        Outside::Error if missing > 0 => {
+            let first = cells.iter().position(Option::is_none).unwrap_or(0);
+            let (row, col) = g.row_col(first);
+            return Err(VectorError::layer(
+                layer,
+                format!(
+                    "`{key}` has no default, but {missing} cells lie outside every polygon with a `{field}` (the first at row {row}, column {col})"
+                ),
+            ));
+        }
+        Outside::Error => {}
+    }
+    let grid = Grid::from_options(g, cells)
+        .ok_or_else(|| VectorError::layer(layer, "internal: grid size"))?;
+    Ok((grid.with_crs(frame.crs.clone()), covered))
+}
+
+/// Release cells: the cells whose centres the polygons hold, ascending.
+pub fn release_cells(layer: &Layer, frame: &Frame) -> Result<Vec<usize>, VectorError> {
+    let mut cells = Vec::new();
+    for f in &layer.features {
+        cells.extend(polygon_cells(&frame.geometry, &polygons(layer, f)?));
+    }
+    cells.sort_unstable();
+    cells.dedup();
+    if cells.is_empty() {
+        return Err(no_overlap(layer, frame));
+    }
+    Ok(cells)
+}
+
+/// Stems from a point layer: `dbh_cm` (required), `species` and `height_m` (optional).
+pub fn stems(layer: &Layer, frame: &Frame) -> Result<Vec<Stem>, VectorError> {
+    let mut stems = Vec::new();
+    for f in &layer.features {
+        let points = match &f.geometry {
+            Geometry::Points(p) => p,
+            Geometry::Empty => continue,
+            g => {
+                return Err(VectorError::feature(
+                    layer,
+                    f.id,
+                    format!("{} where tree points are needed", g.kind()),
+                ));
+            }
+        };
+        let dbh = number(layer, f, "dbh_cm")?
+            .ok_or_else(|| VectorError::feature(layer, f.id, "`dbh_cm` is null"))?;
+        let species = match f.attribute("species") {
+            Some(Value::Text(t)) if !t.trim().is_empty() => Some(t.trim().to_string()),
+            Some(Value::Num(v)) => Some(v.to_string()),
+            _ => None,
+        };
+        let height = match f.attribute("height_m") {
+            None => None,
+            Some(_) => number(layer, f, "height_m")?,
+        };
+        for p in points {
+            let stem = crate::trees::make_stem(p[0], p[1], dbh, species.as_deref(), height)
+                .map_err(|m| VectorError::feature(layer, f.id, m))?;
+            stems.push(stem);
+        }
+    }
+    let inside = stems
+        .iter()
+        .filter(|s| frame.geometry.contains(s.x_m, s.y_m))
+        .count();
+    if inside == 0 {
+        return Err(no_overlap(layer, frame));
+    }
+    Ok(stems)
+}
+
+/// A net given as a line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NetLine {
+    /// Net number (the `net_id` or `id` attribute, else the feature's position from 1).
+    pub id: u32,
+    /// Its vertices (x, y), m; every part of a multi-line in turn.
+    pub points_m: Vec<Vec<Xy>>,
+    /// Energy the net stops, kJ.
+    pub energy_kj: f64,
+    /// Net height, m.
+    pub height_m: f64,
+    /// Cells the line touches.
+    pub cells: Vec<usize>,
+}
+
+/// Nets from a line layer with `energy_kj` and `height_m` attributes: every cell a line
+/// touches holds its net (a later line wins a shared cell).
+pub fn net_lines(layer: &Layer, frame: &Frame) -> Result<Vec<NetLine>, VectorError> {
+    let mut nets = Vec::new();
+    for (k, f) in layer.features.iter().enumerate() {
+        let lines = match &f.geometry {
+            Geometry::Lines(l) => l,
+            Geometry::Empty => continue,
+            g => {
+                return Err(VectorError::feature(
+                    layer,
+                    f.id,
+                    format!("{} where net lines are needed", g.kind()),
+                ));
+            }
+        };
+        let need = |name: &str| {
+            number(layer, f, name)?
+                .filter(|v| *v > 0.0)
+                .ok_or_else(|| VectorError::feature(layer, f.id, format!("`{name}` must be > 0")))
+        };
+        let (energy_kj, height_m) = (need("energy_kj")?, need("height_m")?);
+        let id = match f.attribute("net_id").or_else(|| f.attribute("id")) {
+            None => k as u32 + 1,
+            Some(_) => {
+                let v = number(
+                    layer,
+                    f,
+                    if f.attribute("net_id").is_some() {
+                        "net_id"
+                    } else {
+                        "id"
+                    },
+                )?;
+                match v {
+                    Some(v) if v >= 1.0 && v.fract() == 0.0 && v <= f64::from(u32::MAX) => v as u32,
+                    _ => {
+                        return Err(VectorError::feature(
+                            layer,
+                            f.id,
+                            "the net id must be a whole number ≥ 1",
+                        ));
+                    }
+                }
+            }
+        };
+        let mut cells: Vec<usize> = (lines.iter())
+            .flat_map(|l| line_cells(&frame.geometry, l))
+            .collect();
+        cells.sort_unstable();
+        cells.dedup();
+        nets.push(NetLine {
+            id,
+            points_m: lines.clone(),
+            energy_kj,
+            height_m,
+            cells,
+        });
+    }
+    if nets.iter().all(|n| n.cells.is_empty()) {
+        return Err(no_overlap(layer, frame));
+    }
+    Ok(nets)
+}
+
+/// The Rockyfor3D net rasters (`net_number`, `net_energy` kJ, `net_height` m) of net lines;
+/// 0 where no net.
+pub fn net_grids(nets: &[NetLine], frame: &Frame) -> [Grid<f64>; 3] {
+    let g = frame.geometry;
+    let mut out = [0, 1, 2].map(|_| Grid::filled(g, 0.0).with_crs(frame.crs.clone()));
+    for n in nets {
+        for &c in &n.cells {
+            let (row, col) = g.row_col(c);
+            out[0].set(row, col, f64::from(n.id));
+            out[1].set(row, col, n.energy_kj);
+            out[2].set(row, col, n.height_m);
+        }
+    }
+    out
+}
+
+/// One line for `rockfall check`: the file, layer, features read and cells covered.
+pub fn describe(key: &str, layer: &Layer, cells: usize) -> String {
+    format!(
+        "vector {key}: {} layer `{}`: {} features ({}), {cells} cells covered",
+        layer.path.display(),
+        layer.name,
+        layer.features.len(),
+        kinds(layer)
+    )
+}
+
+fn kinds(layer: &Layer) -> String {
+    let mut k: Vec<&str> = layer.features.iter().map(|f| f.geometry.kind()).collect();
+    k.sort_unstable();
+    k.dedup();
+    k.join(", ")
+}
