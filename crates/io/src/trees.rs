@@ -222,7 +222,7 @@ pub(crate) fn make_stem(
     species: Option<&str>,
     height_m: Option<f64>,
 ) -> Result<Stem, String> {
-    if !(dbh_cm > 0.0) {
+    if dbh_cm.is_nan() || dbh_cm <= 0.0 {
         return Err(format!("DBH must be positive, found {dbh_cm} cm"));
     }
     let species = match species {
@@ -232,7 +232,7 @@ pub(crate) fn make_stem(
         Some(t) => Species::parse(t).ok_or_else(|| format!("unknown species `{t}`"))?,
     };
     let height_m = match height_m {
-        Some(h) if !(h > 1.3) => {
+        Some(h) if h.is_nan() || h <= 1.3 => {
             return Err(format!(
                 "height must exceed breast height 1.3 m, found {h} m"
             ));

@@ -63,7 +63,7 @@ pub(super) fn read(path: &Path, layer: Option<&str>) -> Result<Layer, VectorErro
     let mut stmt = db
         .prepare(&format!("SELECT * FROM {}", quoted(&table)))
         .map_err(sql)?;
-    let columns: Vec<String> = stmt.column_names().into_iter().map(String::from).collect();
+    let columns: Vec<String> = stmt.column_names().map(String::from).collect();
     let mut rows = stmt.query([]).map_err(sql)?;
     let mut index = 0i64;
     while let Some(row) = rows.next().map_err(sql)? {

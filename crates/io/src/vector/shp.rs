@@ -69,11 +69,7 @@ fn finite(x: f64, y: f64) -> Result<Xy, String> {
 }
 
 fn xys<P>(points: &[P], at: impl Fn(&P) -> (f64, f64)) -> Result<Vec<Xy>, String> {
-    points
-        .iter()
-        .map(|p| at(p))
-        .map(|(x, y)| finite(x, y))
-        .collect()
+    points.iter().map(at).map(|(x, y)| finite(x, y)).collect()
 }
 
 /// Rings of a Shapefile polygon grouped into polygons: each outer ring starts one, the inner
