@@ -147,6 +147,8 @@ impl Resolver {
             .map(|s| Screen {
                 name: s.name,
                 points_m: s.points_m,
+                capacity_kj: s.capacity_kj,
+                height_m: s.height_m,
             })
             .collect();
         let lumped = self.lumped(f.lumped)?;

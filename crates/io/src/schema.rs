@@ -141,6 +141,8 @@ pub struct NetsSec {
 pub struct ScreenSec {
     pub name: String,
     pub points_m: Vec<[f64; 2]>,
+    pub capacity_kj: Option<f64>,
+    pub height_m: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -240,6 +240,11 @@ impl Writer {
                 quote(&sc.name),
                 pts.join(", ")
             );
+            for (key, v) in [("capacity_kj", sc.capacity_kj), ("height_m", sc.height_m)] {
+                if let Some(v) = v {
+                    let _ = writeln!(t, "{key} = {v:?}");
+                }
+            }
         }
         settings_toml(s, &mut t);
         Ok(t)

@@ -557,6 +557,8 @@ fn written_names_are_quoted_as_toml_strings() {
     s.screens.push(rockfall_scenario::Screen {
         name: "road \"RD 43\"".into(),
         points_m: vec![[5.0, 20.0], [55.0, 20.0]],
+        capacity_kj: None,
+        height_m: None,
     });
     let dir = tempfile::tempdir().unwrap();
     rockfall_io::write::write_scenario_dir(&s, dir.path()).unwrap();
@@ -634,4 +636,31 @@ fn tangential_law_parses_round_trips_and_names_bad_values() {
         let back = load(&dir.path().join("scenario.toml")).unwrap();
         assert_eq!(back.lumped, site.lumped);
     }
+}
+
+#[test]
+fn screen_limits_parse_round_trip_and_are_checked() {
+    let screen = "[[screens]]\nname = \"net line\"\npoints_m = [[0.0, 30.0], [40.0, 30.0]]\n";
+    let text = format!("{MINIMAL}{screen}capacity_kj = 1500.0\nheight_m = 4.0\n");
+    let s = loads(&text);
+    assert_eq!(
+        (s.screens[0].capacity_kj, s.screens[0].height_m),
+        (Some(1500.0), Some(4.0))
+    );
+    let plain = loads(&format!("{MINIMAL}{screen}"));
+    assert_eq!(
+        (plain.screens[0].capacity_kj, plain.screens[0].height_m),
+        (None, None)
+    );
+    for bad in ["capacity_kj = -5.0", "capacity_kj = 0.0", "height_m = nan"] {
+        fails(
+            &format!("{MINIMAL}{screen}{bad}\n"),
+            &["screens[0]", bad.split(' ').next().unwrap()],
+        );
+    }
+    // written back and read again, the limits stay
+    let dir = tempfile::tempdir().unwrap();
+    rockfall_io::write::write_scenario_dir(&s, dir.path()).unwrap();
+    let back = load(&dir.path().join("scenario.toml")).unwrap();
+    assert_eq!(back.screens, s.screens);
 }

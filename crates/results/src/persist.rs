@@ -37,7 +37,7 @@ use crate::profile::SpeedHistogram;
 use crate::{Event, Layout, Outcome, RockEnd, RockRecord, RunInfo, Tally, TrajectoryRow};
 
 /// Version of the tally file format this build reads and writes.
-pub const TALLY_FORMAT: u32 = 1;
+pub const TALLY_FORMAT: u32 = 2;
 
 /// File name of a run folder's exact tallies.
 pub const TALLY_FILE: &str = "rockfall.tally";
@@ -102,10 +102,19 @@ struct LayoutRecord {
     cell_size_m: f64,
     epsg: Option<u32>,
     wkt: Option<String>,
-    screens: Vec<(String, Vec<[f64; 2]>)>,
+    screens: Vec<ScreenRecord>,
     percentiles: Vec<f64>,
     trajectories: u64,
     rock_ends: bool,
+}
+
+/// A screen as a tally file's header holds it.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct ScreenRecord {
+    name: String,
+    points_m: Vec<[f64; 2]>,
+    capacity_kj: Option<f64>,
+    height_m: Option<f64>,
 }
 
 impl From<&Layout> for LayoutRecord {
@@ -120,7 +129,12 @@ impl From<&Layout> for LayoutRecord {
             epsg: l.crs.as_ref().and_then(|c| c.epsg),
             wkt: l.crs.as_ref().and_then(|c| c.wkt.clone()),
             screens: (l.screens.iter())
-                .map(|s| (s.name.clone(), s.points_m.clone()))
+                .map(|s| ScreenRecord {
+                    name: s.name.clone(),
+                    points_m: s.points_m.clone(),
+                    capacity_kj: s.capacity_kj,
+                    height_m: s.height_m,
+                })
                 .collect(),
             percentiles: l.percentiles.clone(),
             trajectories: l.trajectories,
@@ -145,7 +159,12 @@ impl From<LayoutRecord> for Layout {
             },
             crs,
             screens: (r.screens.into_iter())
-                .map(|(name, points_m)| Screen { name, points_m })
+                .map(|s| Screen {
+                    name: s.name,
+                    points_m: s.points_m,
+                    capacity_kj: s.capacity_kj,
+                    height_m: s.height_m,
+                })
                 .collect(),
             percentiles: r.percentiles,
             trajectories: r.trajectories,
@@ -284,6 +303,8 @@ fn body(e: &mut Enc, t: &Tally) {
     e.len(t.screens.len());
     for s in &t.screens {
         e.u64(s.rocks);
+        e.u64(s.over_capacity);
+        e.u64(s.over_height);
         for st in [&s.velocity, &s.energy, &s.height] {
             stat(e, st);
         }
@@ -347,6 +368,8 @@ fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeError> {
     }
     for s in &mut t.screens {
         s.rocks = d.u64()?;
+        s.over_capacity = d.u64()?;
+        s.over_height = d.u64()?;
         for st in [&mut s.velocity, &mut s.energy, &mut s.height] {
             read_stat(d, st)?;
         }

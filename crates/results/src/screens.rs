@@ -137,6 +137,12 @@ pub(crate) struct ScreenStats {
     last_rock: u64,
     /// Distinct rocks that crossed.
     pub(crate) rocks: u64,
+    /// The screen's limits: energy capacity, J, and barrier height, m.
+    limits: (Option<f64>, Option<f64>),
+    /// Crossings with more kinetic energy than the capacity.
+    pub(crate) over_capacity: u64,
+    /// Crossings with the centre higher above the ground than the barrier.
+    pub(crate) over_height: u64,
     /// Speed at every crossing, m/s.
     pub(crate) velocity: Stat,
     /// Energy at every crossing, J.
@@ -146,10 +152,14 @@ pub(crate) struct ScreenStats {
 }
 
 impl ScreenStats {
-    pub(crate) fn new() -> ScreenStats {
+    /// Empty statistics of `screen`, with its limits.
+    pub(crate) fn new(screen: &Screen) -> ScreenStats {
         ScreenStats {
             last_rock: 0,
             rocks: 0,
+            limits: (screen.capacity_kj.map(|e| e * 1e3), screen.height_m),
+            over_capacity: 0,
+            over_height: 0,
             velocity: Stat::new(&SHORT_AXIS, LENGTH_SCALE),
             energy: Stat::new(&ENERGY_AXIS, ENERGY_SCALE),
             height: Stat::new(&SHORT_AXIS, LENGTH_SCALE),
@@ -164,10 +174,15 @@ impl ScreenStats {
         self.velocity.add(c.velocity_ms);
         self.energy.add(c.energy_j);
         self.height.add(c.jump_height_m);
+        // strictly above: a crossing at exactly the capacity or height is within it
+        self.over_capacity += u64::from(self.limits.0.is_some_and(|e| c.energy_j > e));
+        self.over_height += u64::from(self.limits.1.is_some_and(|h| c.jump_height_m > h));
     }
 
     pub(crate) fn merge(&mut self, o: &ScreenStats) {
         self.rocks += o.rocks;
+        self.over_capacity += o.over_capacity;
+        self.over_height += o.over_height;
         self.velocity.merge(&o.velocity);
         self.energy.merge(&o.energy);
         self.height.merge(&o.height);
@@ -182,6 +197,8 @@ mod tests {
         ScreenSet::new(&[Screen {
             name: "a".into(),
             points_m: points.to_vec(),
+            capacity_kj: None,
+            height_m: None,
         }])
     }
 
@@ -254,10 +271,14 @@ mod tests {
             Screen {
                 name: "far".into(),
                 points_m: vec![[8.0, -1.0], [8.0, 1.0]],
+                capacity_kj: None,
+                height_m: None,
             },
             Screen {
                 name: "near".into(),
                 points_m: vec![[2.0, -1.0], [2.0, 1.0]],
+                capacity_kj: None,
+                height_m: None,
             },
         ]);
         assert_eq!(

@@ -165,6 +165,20 @@ pub struct ScreenSummary {
     pub energy_kj: MeanP95Max,
     /// Height of the rock centre above the ground at the crossings, m.
     pub jump_height_m: MeanP95Max,
+    /// The screen's energy capacity, kJ, when given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub capacity_kj: Option<f64>,
+    /// Crossings with more kinetic energy than `capacity_kj` / crossings (`None` without
+    /// a capacity or without crossings).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exceed_energy_fraction: Option<f64>,
+    /// The screen's barrier height, m, when given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height_m: Option<f64>,
+    /// Crossings with the rock's centre higher above the ground than `height_m` /
+    /// crossings (`None` without a height or without crossings).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exceed_height_fraction: Option<f64>,
 }
 
 impl Results {
@@ -183,6 +197,14 @@ impl Results {
                 velocity_ms: MeanP95Max::of(&s.velocity, 1.0),
                 energy_kj: MeanP95Max::of(&s.energy, 1e3),
                 jump_height_m: MeanP95Max::of(&s.height, 1.0),
+                capacity_kj: screen.capacity_kj,
+                exceed_energy_fraction: screen
+                    .capacity_kj
+                    .and_then(|_| fraction(s.over_capacity, s.velocity.count())),
+                height_m: screen.height_m,
+                exceed_height_fraction: screen
+                    .height_m
+                    .and_then(|_| fraction(s.over_height, s.velocity.count())),
             })
             .collect();
         let info = &self.info;

@@ -132,9 +132,7 @@ impl Tally {
     pub fn new(layout: Arc<Layout>) -> Tally {
         Tally {
             cells: CellTable::new(&layout.geometry),
-            screens: (0..layout.screens.len())
-                .map(|_| ScreenStats::new())
-                .collect(),
+            screens: layout.screens.iter().map(ScreenStats::new).collect(),
             rock: RockStats::new(),
             profile: SpeedProfile::new(&layout),
             current: None,

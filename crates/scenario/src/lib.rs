@@ -103,6 +103,13 @@ pub struct Screen {
     pub name: String,
     /// Vertices (x, y), m; at least two.
     pub points_m: Vec<[f64; 2]>,
+    /// Energy a barrier on this line can take, kJ (its energy capacity, the maximum energy
+    /// level of EAD 340059-00-0106 §2.2.1); `summary.json` then gives the share of crossings
+    /// above it.
+    pub capacity_kj: Option<f64>,
+    /// Height of a barrier on this line, m; `summary.json` then gives the share of crossings
+    /// with the rock's centre higher above the ground.
+    pub height_m: Option<f64>,
 }
 
 /// Everything one simulation needs.

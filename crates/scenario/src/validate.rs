@@ -239,6 +239,16 @@ impl Scenario {
                     "a screen needs at least two finite vertices [x_m, y_m]",
                 ));
             }
+            for (key, v) in [("capacity_kj", s.capacity_kj), ("height_m", s.height_m)] {
+                if let Some(v) = v
+                    && !(v.is_finite() && v > 0.0)
+                {
+                    return Err(ScenarioError::invalid(
+                        &name,
+                        format!("`{key}` must be a finite number > 0, found {v}"),
+                    ));
+                }
+            }
         }
         Ok(())
     }

@@ -112,6 +112,8 @@ pub fn build() -> Result<Scenario, SiteError> {
         screens: vec![Screen {
             name: "slope_foot".into(),
             points_m: vec![[0.0, y_top - foot_d], [WIDTH_M, y_top - foot_d]],
+            capacity_kj: None,
+            height_m: None,
         }],
         lumped: LumpedSettings::default(),
         rigid: RigidParams::default(),

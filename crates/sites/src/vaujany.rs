@@ -387,6 +387,8 @@ fn build_rows(site: Site, nrows: usize, u: &Unknowns) -> Result<Scenario, SiteEr
     let across = |d: f64, name: &str| Screen {
         name: name.into(),
         points_m: vec![[g.x_min_m, Y_MAX_M - d], [g.x_max_m(), Y_MAX_M - d]],
+        capacity_kj: None,
+        height_m: None,
     };
     let last_centre_d = (nrows as f64 - 0.5) * CELL_M;
     let screens: Vec<Screen> = [

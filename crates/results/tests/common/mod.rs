@@ -26,10 +26,14 @@ pub fn layout() -> Arc<Layout> {
             Screen {
                 name: "upper".into(),
                 points_m: vec![[1000.0, 5006.0], [1012.0, 5006.0]],
+                capacity_kj: None,
+                height_m: None,
             },
             Screen {
                 name: "lower".into(),
                 points_m: vec![[1000.0, 5002.0], [1006.0, 5003.0], [1012.0, 5002.0]],
+                capacity_kj: None,
+                height_m: None,
             },
         ],
         percentiles: vec![50.0, 99.5, 95.0],
