@@ -33,7 +33,7 @@ fn run(input: &Path, out: &Path, extra: &[&str]) -> Value {
     serde_json::from_str(&text).unwrap()
 }
 
-const RASTERS: [&str; 11] = [
+const RASTERS: [&str; 13] = [
     "Nr_passages",
     "Reach_probability",
     "Nr_deposited",
@@ -41,6 +41,8 @@ const RASTERS: [&str; 11] = [
     "E_mean",
     "E_95",
     "Ph_mean",
+    "Ph_50",
+    "Ph_90",
     "Ph_95",
     "V_max",
     "Nr_tree_impacts",

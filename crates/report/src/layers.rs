@@ -138,6 +138,10 @@ pub fn style(name: &str) -> LayerStyle {
             .says("Mean energy (translational + rotational) over the passages through the cell."),
         "Ph_mean" => LayerStyle::new("Mean passing height", "m", Ramp::Plasma, Linear)
             .says("Mean height of the rock centre above the ground, over the passages."),
+        "Ph_50" => LayerStyle::new("Passing height, median", "m", Ramp::Plasma, Linear)
+            .says("Half of the passages through the cell were lower (rock centre above the ground)."),
+        "Ph_90" => LayerStyle::new("Passing height, 90th percentile", "m", Ramp::Plasma, Linear)
+            .says("90 % of the passages through the cell were lower (rock centre above the ground)."),
         "Ph_95" => LayerStyle::new("Passing height, 95th percentile", "m", Ramp::Plasma, Linear)
             .says("95 % of the passages through the cell were lower (rock centre above the ground)."),
         "V_max" => LayerStyle::new("Maximum velocity", "m/s", Ramp::Inferno, Linear)

@@ -36,7 +36,8 @@ pub(crate) enum Kind {
     EnergyMean,
     EnergyPercentile(f64),
     HeightMean,
-    Height95,
+    /// A percentile (0–100) of the passing heights of the cell's visits.
+    HeightPercentile(f64),
     VelocityMax,
     TreeImpacts,
     TreeHeightMax,
@@ -151,7 +152,9 @@ impl Results {
         }
         v.extend([
             ("Ph_mean".into(), Kind::HeightMean),
-            ("Ph_95".into(), Kind::Height95),
+            ("Ph_50".into(), Kind::HeightPercentile(50.0)),
+            ("Ph_90".into(), Kind::HeightPercentile(90.0)),
+            ("Ph_95".into(), Kind::HeightPercentile(95.0)),
             ("V_max".into(), Kind::VelocityMax),
             ("Nr_tree_impacts".into(), Kind::TreeImpacts),
             ("Tree_impact_height_max".into(), Kind::TreeHeightMax),
@@ -162,7 +165,7 @@ impl Results {
 
     /// Names of every raster, in writing order: `Nr_passages`, `Reach_probability`,
     /// `Nr_deposited`, `Nr_sourcecells`, `E_mean`, `E_<p>` (ascending, `E_95` always),
-    /// `Ph_mean`, `Ph_95`, `V_max`, `Nr_tree_impacts`, `Tree_impact_height_max`,
+    /// `Ph_mean`, `Ph_50`, `Ph_90`, `Ph_95`, `V_max`, `Nr_tree_impacts`, `Tree_impact_height_max`,
     /// `Nr_stems_broken`.
     pub fn raster_names(&self) -> Vec<String> {
         self.kinds().into_iter().map(|(n, _)| n).collect()
@@ -172,7 +175,9 @@ impl Results {
     /// layout's grid and with its CRS; `None` for an unknown name.
     ///
     /// Units: `Reach_probability` % of the rocks; `E_mean`, `E_<p>` kJ (over visits);
-    /// `Ph_mean`, `Ph_95`, `Tree_impact_height_max` m; `V_max` m/s; the others are counts
+    /// `Ph_mean`, `Ph_50`, `Ph_90`, `Ph_95` (percentiles of the passing heights of the cell's
+    /// visits, as Rockyfor3D's `Ph_95` and its median and 90 % companions),
+    /// `Tree_impact_height_max` m; `V_max` m/s; the others are counts
     /// (0 where nothing happened). The non-count rasters are nodata where no rock passed (no
     /// tree was hit, for `Tree_impact_height_max`). Percentiles come from log histograms:
     /// within 7.5 % of the exact nearest-rank value (see [`crate::PERCENTILE_RELATIVE_ERROR`]).
@@ -219,7 +224,7 @@ impl Results {
             Kind::EnergyMean => visited?.energy_mean_j().map(|e| e / 1e3),
             Kind::EnergyPercentile(p) => visited?.energy_percentile_j(p).map(|e| e / 1e3),
             Kind::HeightMean => visited?.height_mean_m(),
-            Kind::Height95 => visited?.height_percentile_m(95.0),
+            Kind::HeightPercentile(p) => visited?.height_percentile_m(p),
             Kind::VelocityMax => visited.map(|c| c.velocity_max_ms),
             Kind::TreeImpacts => Some(c.map_or(0, |c| c.tree_impacts) as f64),
             Kind::TreeHeightMax => c

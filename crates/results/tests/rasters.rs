@@ -118,9 +118,18 @@ fn reach_probability_sourcecells_and_nodata_on_a_hand_made_case() {
         (e50 / 4.0 - 1.0).abs() < rockfall_results::PERCENTILE_RELATIVE_ERROR,
         "{e50}"
     );
+    // every passage was 0.5 m high: each passing-height percentile is 0.5 m, within the
+    // histograms' resolution
+    for name in ["Ph_50", "Ph_90", "Ph_95"] {
+        let h = g(name).get_index(7).unwrap();
+        assert!(
+            (h / 0.5 - 1.0).abs() < rockfall_results::PERCENTILE_RELATIVE_ERROR,
+            "{name} {h}"
+        );
+    }
     // Nodata where no rock passed.
     for name in [
-        "E_mean", "E_95", "E_50", "E_99.5", "Ph_mean", "Ph_95", "V_max",
+        "E_mean", "E_95", "E_50", "E_99.5", "Ph_mean", "Ph_50", "Ph_90", "Ph_95", "V_max",
     ] {
         let grid = g(name);
         assert_eq!(grid.get_index(0), None, "{name}");
@@ -138,6 +147,8 @@ fn reach_probability_sourcecells_and_nodata_on_a_hand_made_case() {
             "E_95",
             "E_99.5",
             "Ph_mean",
+            "Ph_50",
+            "Ph_90",
             "Ph_95",
             "V_max",
             "Nr_tree_impacts",
@@ -215,4 +226,32 @@ fn zero_rocks_give_nulls_not_nan_and_still_write() {
     assert_eq!(csv, format!("{}\n", rockfall_results::TRAJECTORY_HEADER));
     let back = rockfall_raster::read_grid(&dir.path().join("E_95.tif")).unwrap();
     assert_eq!(back.nodata_count(), 30);
+}
+
+#[test]
+fn passing_height_percentiles_by_nearest_rank() {
+    let layout = common::layout();
+    let mut t = Tally::new(layout.clone());
+    // one rock passes cell 4 twenty times at 0.1, 0.2, … 2.0 m
+    t.begin_rock(start(0, 1));
+    for k in 1..=20 {
+        t.cell_visit(
+            4,
+            CellVisit {
+                energy_j: 1000.0,
+                velocity_ms: 2.0,
+                passing_height_m: 0.1 * f64::from(k),
+            },
+        );
+    }
+    t.end_rock(end(Outcome::LeftDem));
+    let r = Results::new(&layout, t, RunInfo::default());
+    // nearest rank over 20 values: the 10th (1.0 m), the 18th (1.8 m), the 19th (1.9 m)
+    for (name, exact) in [("Ph_50", 1.0), ("Ph_90", 1.8), ("Ph_95", 1.9)] {
+        let h = r.raster(name).unwrap().get_index(4).unwrap();
+        assert!(
+            (h / exact - 1.0).abs() < rockfall_results::PERCENTILE_RELATIVE_ERROR,
+            "{name}: {h} m, nearest rank {exact} m"
+        );
+    }
 }
