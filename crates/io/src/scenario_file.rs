@@ -23,7 +23,13 @@ pub const DEFAULT_DENSITY_KG_M3: f64 = 2700.0;
 /// Reads and validates a scenario file.
 pub fn read_scenario(path: &Path) -> Result<Scenario, InputError> {
     let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
-    let file: schema::File = toml::from_str(&text).map_err(|e| InputError::Toml {
+    parse_scenario(&text, path)
+}
+
+/// [`read_scenario`] on a scenario file's text already read: `path` names it in errors and
+/// its folder is where the files it names are found.
+pub fn parse_scenario(text: &str, path: &Path) -> Result<Scenario, InputError> {
+    let file: schema::File = toml::from_str(text).map_err(|e| InputError::Toml {
         path: path.to_path_buf(),
         message: e.to_string().trim_end().to_string(),
     })?;

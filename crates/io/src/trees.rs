@@ -10,8 +10,13 @@ use std::path::Path;
 /// taken in that order. `species` is a species name or code, `conifer`/`broadleaf`, or a
 /// conifer flag 1/0. A missing height comes from the DBH allometry.
 pub fn read_tree_csv(path: &Path) -> Result<Vec<Stem>, InputError> {
-    let text = read_text(path)?;
-    let rows = split_rows(&text, |l| l.split(',').map(str::trim).collect());
+    parse_tree_csv(&read_text(path)?, path)
+}
+
+/// [`read_tree_csv`] on a text already read; `path` names the source in errors.
+pub fn parse_tree_csv(text: &str, path: &Path) -> Result<Vec<Stem>, InputError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let rows = split_rows(text, |l| l.split(',').map(str::trim).collect());
     let mut rows = rows.into_iter().peekable();
     let mut cols = Columns::positional();
     if let Some((line, first)) = rows.peek()
@@ -34,8 +39,13 @@ pub fn read_tree_csv(path: &Path) -> Result<Vec<Stem>, InputError> {
 /// 0 broadleaf) or a species name. A first line that does not start with a number is a
 /// header and skipped. Heights come from the DBH allometry.
 pub fn read_treefile(path: &Path) -> Result<Vec<Stem>, InputError> {
-    let text = read_text(path)?;
-    let rows = split_rows(&text, |l| {
+    parse_treefile(&read_text(path)?, path)
+}
+
+/// [`read_treefile`] on a text already read; `path` names the source in errors.
+pub fn parse_treefile(text: &str, path: &Path) -> Result<Vec<Stem>, InputError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let rows = split_rows(text, |l| {
         l.split(|c: char| c.is_whitespace() || c == ',' || c == ';')
             .filter(|t| !t.is_empty())
             .collect()
@@ -91,13 +101,10 @@ pub fn write_treefile(path: &Path, stems: &[Stem]) -> Result<(), InputError> {
     crate::write_text(path, &s)
 }
 
-/// The file's text without a leading byte-order mark (spreadsheets write one).
+/// The file's text (a leading byte-order mark, which spreadsheets write, is dropped by the
+/// parsers).
 fn read_text(path: &Path) -> Result<String, InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
-    Ok(match text.strip_prefix('\u{feff}') {
-        Some(rest) => rest.to_string(),
-        None => text,
-    })
+    std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))
 }
 
 /// Non-empty, non-comment (`#`) lines as (1-based line number, fields).

@@ -70,27 +70,31 @@ pub enum ShapeFileError {
 /// documentation): at least 4, each finite. Whether they span a solid is the engine's check
 /// (`rockfall_rigid::shape::RockGeometry::from_points`).
 pub fn read_points(path: &Path) -> Result<Vec<[f64; 3]>, ShapeFileError> {
+    let bytes = std::fs::read(path).map_err(|source| ShapeFileError::Io {
+        path: path.into(),
+        source,
+    })?;
+    parse_points(path, &bytes)
+}
+
+/// [`read_points`] on a file's bytes already read; the format comes from `path`'s extension,
+/// which also names the source in errors.
+pub fn parse_points(path: &Path, bytes: &[u8]) -> Result<Vec<[f64; 3]>, ShapeFileError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    let read_text = || {
-        std::fs::read_to_string(path).map_err(|source| ShapeFileError::Io {
+    let text = || {
+        std::str::from_utf8(bytes).map_err(|e| ShapeFileError::Io {
             path: path.into(),
-            source,
-        })
-    };
-    let read_bytes = || {
-        std::fs::read(path).map_err(|source| ShapeFileError::Io {
-            path: path.into(),
-            source,
+            source: std::io::Error::new(std::io::ErrorKind::InvalidData, e),
         })
     };
     let points = match ext.as_deref() {
-        Some("xyz" | "csv" | "txt") => parse_xyz(path, &read_text()?)?,
-        Some("obj") => keyword_points(path, &read_text()?, "v")?,
-        Some("ply") => ply::parse_ply(path, &read_bytes()?)?,
-        Some("stl") => stl::parse_stl(path, &read_bytes()?)?,
+        Some("xyz" | "csv" | "txt") => parse_xyz(path, text()?)?,
+        Some("obj") => keyword_points(path, text()?, "v")?,
+        Some("ply") => ply::parse_ply(path, bytes)?,
+        Some("stl") => stl::parse_stl(path, bytes)?,
         _ => return Err(ShapeFileError::UnknownFormat { path: path.into() }),
     };
     if points.len() < 4 {
