@@ -15,7 +15,7 @@ for t in "${targets[@]}"; do
   if [ "$jobs" -gt 1 ]; then
     # parallel workers share the corpus; each runs runs/jobs executions
     cargo +nightly fuzz run -O "$t" "corpus/$t" -- -runs=$((runs / jobs)) -jobs="$jobs" \
-      -workers="$jobs" -print_final_stats=1 >"/tmp/fuzz-$t.log" 2>&1
+      -workers="$jobs" -timeout=10 -print_final_stats=1 >"/tmp/fuzz-$t.log" 2>&1
     cat fuzz-*.log >>"/tmp/fuzz-$t.log" 2>/dev/null || true
     rm -f fuzz-*.log
   else

@@ -15,7 +15,7 @@ for t in $targets; do
   echo "== fuzz $t (${seconds} s)"
   log="$work.log"
   status=0
-  cargo +nightly fuzz run -O "$t" "$work" -- -max_total_time="$seconds" -print_final_stats=1 \
+  cargo +nightly fuzz run -O "$t" "$work" -- -max_total_time="$seconds" -timeout=10 -print_final_stats=1 \
     >"$log" 2>&1 || status=$?
   grep -E "^(Done|stat::number_of_executed_units)" "$log" || true
   if [ "$status" -ne 0 ]; then tail -40 "$log"; fi

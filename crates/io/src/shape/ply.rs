@@ -116,6 +116,11 @@ pub(super) fn parse_ply(path: &Path, bytes: &[u8]) -> Result<Vec<[f64; 3]>, Shap
     let mut body = Body::new(path, bytes, &header)?;
     let mut points = Vec::with_capacity(el.count.min(1 << 16)); // the header may lie
     for (e, element) in header.elements[..=vertex].iter().enumerate() {
+        if element.properties.is_empty() {
+            // records without properties hold nothing to read past, however many the
+            // header declares (a count of 10^15 must not be counted through)
+            continue;
+        }
         for r in 0..element.count {
             let values = body.record(&element.properties).ok_or_else(|| {
                 let what = format!(

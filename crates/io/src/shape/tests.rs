@@ -1,7 +1,7 @@
 //! Tests of the shape file readers: every format gives back the points written; errors name the
 //! file and the line or record.
 
-use super::{ShapeFileError, read_points, read_shape};
+use super::{ShapeFileError, parse_points, read_points, read_shape};
 use rockfall_scenario::RockShape;
 use std::path::{Path, PathBuf};
 
@@ -245,4 +245,28 @@ fn read_shape_reads_files_and_keeps_other_shapes() {
     let named = RockShape::Named("flat2.2".into());
     assert_eq!(read_shape(named.clone()).unwrap(), named);
     assert!(read_shape(RockShape::File(dir.path().join("gone.ply"))).is_err());
+}
+
+/// Fuzzing found a PLY header declaring an element of 5·10¹⁴ records without properties
+/// before the vertices: the reader counted through every empty record (hours). Records without
+/// properties are now skipped at once; the file reads its vertices.
+#[test]
+fn ply_element_without_properties_and_a_huge_count_is_skipped_at_once() {
+    let mut bytes = b"ply\nformat binary_little_endian 1.0\nelement empty 500000000000000\n\
+element vertex 4\nproperty double x\nproperty double y\nproperty double z\nend_header\n"
+        .to_vec();
+    let points: Vec<P> = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    for p in &points {
+        for v in p {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    // before the fix this call did not return (counting 5·10¹⁴ records takes days)
+    let read = parse_points(Path::new("rock.ply"), &bytes).unwrap();
+    assert_eq!(read, points);
 }
