@@ -19,7 +19,7 @@ for t in "${targets[@]}"; do
     cat fuzz-*.log >>"/tmp/fuzz-$t.log" 2>/dev/null || true
     rm -f fuzz-*.log
   else
-    cargo +nightly fuzz run -O "$t" "corpus/$t" -- -runs="$runs" -print_final_stats=1 \
+    cargo +nightly fuzz run -O "$t" "corpus/$t" -- -runs="$runs" -timeout=10 -print_final_stats=1 \
       >"/tmp/fuzz-$t.log" 2>&1
   fi
   executed=$(grep -h "stat::number_of_executed_units" "/tmp/fuzz-$t.log" | awk '{s += $2} END {print s}')
