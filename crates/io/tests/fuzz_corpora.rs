@@ -108,3 +108,13 @@ fn scenario_corpus() {
     // the seed scenarios are valid: the folder above is the one the target builds
     assert!(read >= 3, "only {read} corpus scenarios read");
 }
+
+#[test]
+fn geotiff_corpus() {
+    let mut read = 0;
+    for (path, bytes) in inputs("geotiff") {
+        read += usize::from(rockfall_raster::geotiff::decode(&bytes, &path).is_ok());
+    }
+    // the seeds (GDAL's strip, tiled, LZW, PackBits and COG files, and ours) read
+    assert!(read >= 8, "only {read} corpus GeoTIFFs read");
+}

@@ -56,12 +56,34 @@ const REL_TOL: f64 = 1e-9;
 /// Unreadable files and unsupported layouts are [`RasterError::Tiff`].
 pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
     let file = File::open(path).map_err(|e| RasterError::io(path, e))?;
+    let file_len = (file.metadata())
+        .map_err(|e| RasterError::io(path, e))?
+        .len();
+    read_from(BufReader::new(file), file_len, path)
+}
+
+/// [`read`] on a file's bytes already in memory; `path` names the source in errors.
+pub fn decode(bytes: &[u8], path: &Path) -> Result<Grid<f64>, RasterError> {
+    read_from(std::io::Cursor::new(bytes), bytes.len() as u64, path)
+}
+
+/// Most decoded bytes one stored byte may give: above every codec the reader decodes
+/// (Deflate's limit is 1032:1, LZW's about 2730:1). A header declaring more pixels than its
+/// chunks could hold is refused before anything is allocated (ours: a guard against
+/// decompression bombs and lying headers, which fuzzing reaches with a few bytes).
+const MAX_EXPANSION: u64 = 1 << 16;
+
+fn read_from<R: Read + Seek>(
+    reader: R,
+    file_len: u64,
+    path: &Path,
+) -> Result<Grid<f64>, RasterError> {
     let fail = |message: String| RasterError::Tiff {
         path: path.to_path_buf(),
         message,
     };
     let bad = |e: TiffError| fail(format!("not a readable TIFF: {e}"));
-    let mut dec = Decoder::new(BufReader::new(file)).map_err(bad)?;
+    let mut dec = Decoder::new(reader).map_err(bad)?;
     let (width, height) = dec.dimensions().map_err(bad)?;
     let samples = tag(&mut dec, Tag::SamplesPerPixel, Value::into_u32).map_err(bad)?;
     if let Some(n @ 2..) = samples {
@@ -88,13 +110,17 @@ pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
             Some(parsed.map_err(|_| fail(format!("GDAL_NODATA {text:?} is not a number")))?)
         }
     };
-    let file_len = std::fs::metadata(path)
-        .map_err(|e| RasterError::io(path, e))?
-        .len();
-    check_chunks_in_file(&mut dec, file_len).map_err(fail)?;
+    let stored = check_chunks_in_file(&mut dec, file_len).map_err(fail)?;
 
     let (ncols, nrows) = (width as usize, height as usize);
     let n = ncols.saturating_mul(nrows);
+    let decoded = (n as u64).saturating_mul(u64::from(bits / 8));
+    if decoded > stored.saturating_mul(MAX_EXPANSION) {
+        return Err(fail(format!(
+            "{width} × {height} pixels of {bits} bits cannot come from the {stored} bytes of \
+             data the file holds"
+        )));
+    }
     let mut values: Vec<f64> = Vec::new();
     values
         .try_reserve_exact(n)
@@ -161,7 +187,11 @@ pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
 
 /// Every strip or tile lies within the file's `file_len` bytes: a file cut short is an error,
 /// even where the decompressor would not notice (a cut in a Deflate stream's checksum).
-fn check_chunks_in_file<R: Read + Seek>(dec: &mut Decoder<R>, file_len: u64) -> Result<(), String> {
+/// Returns the bytes the chunks hold.
+fn check_chunks_in_file<R: Read + Seek>(
+    dec: &mut Decoder<R>,
+    file_len: u64,
+) -> Result<u64, String> {
     let bad = |e: TiffError| format!("not a readable TIFF: {e}");
     let vec = |dec: &mut Decoder<R>, tag| dec.find_tag_unsigned_vec::<u64>(tag).map_err(bad);
     let (offsets, counts) = match vec(dec, Tag::TileOffsets)? {
@@ -172,6 +202,7 @@ fn check_chunks_in_file<R: Read + Seek>(dec: &mut Decoder<R>, file_len: u64) -> 
         ),
     };
     let counts = counts.unwrap_or_default();
+    let mut stored = 0u64;
     for (k, (o, n)) in offsets.iter().zip(&counts).enumerate() {
         let end = o.saturating_add(*n);
         if end > file_len {
@@ -179,8 +210,9 @@ fn check_chunks_in_file<R: Read + Seek>(dec: &mut Decoder<R>, file_len: u64) -> 
                 "truncated: chunk {k} ends at byte {end} of a {file_len}-byte file"
             ));
         }
+        stored = stored.saturating_add(*n);
     }
-    Ok(())
+    Ok(stored)
 }
 
 /// The samples of one decoded chunk as `f64` into `out` (cleared first); true when they were
