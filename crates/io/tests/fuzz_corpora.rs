@@ -118,3 +118,25 @@ fn geotiff_corpus() {
     // the seeds (GDAL's strip, tiled, LZW, PackBits and COG files, and ours) read
     assert!(read >= 8, "only {read} corpus GeoTIFFs read");
 }
+
+#[test]
+fn vector_corpora() {
+    let mut read = 0;
+    for (path, bytes) in inputs("geojson") {
+        read += usize::from(rockfall_io::vector::parse_geojson(&bytes, &path).is_ok());
+    }
+    for (_, bytes) in inputs("wkb") {
+        read += usize::from(rockfall_io::vector::wkb::decode_gpkg_geometry(&bytes).is_ok());
+        let _ = rockfall_io::vector::wkb::decode_wkb(&bytes);
+    }
+    for (path, bytes) in inputs("shapefile") {
+        if bytes.len() >= 2 {
+            let n = usize::from(u16::from_le_bytes([bytes[0], bytes[1]])).min(bytes.len() - 2);
+            let (shp, dbf) = bytes[2..].split_at(n);
+            read +=
+                usize::from(rockfall_io::vector::parse_shapefile(shp, dbf, None, &path).is_ok());
+        }
+    }
+    // the seeds: five GeoJSON layers, nine geometry blobs, four Shapefiles from ogr2ogr
+    assert!(read >= 18, "only {read} vector corpus inputs read");
+}
