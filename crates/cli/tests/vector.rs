@@ -151,3 +151,95 @@ fn bad_layers_exit_2_naming_the_file() {
         &["no feature covers a cell of the DEM"],
     );
 }
+
+/// `rockfall.qgs` opens the run: every layer's file exists where the project says (relative
+/// to it), every layer of the tree is defined, the CRS is the DEM's, the rasters carry the
+/// renderer of their `.qml` and the DEM is drawn as a hillshade at the bottom.
+#[test]
+fn run_writes_a_qgis_project_whose_layers_all_exist() {
+    let (dir, scenario) = site(|s| {
+        s.replace(
+            "rocks_per_cell = 4",
+            "rocks_per_cell = 4\n[output]\ntrajectories = 3",
+        )
+    });
+    let out = dir.path().join("out");
+    ok(rockfall(&[
+        "run",
+        s(&scenario),
+        "--out",
+        s(&out),
+        "--threads",
+        "1",
+    ]));
+    let text = std::fs::read_to_string(out.join("rockfall.qgs")).unwrap();
+    let options = roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..Default::default()
+    };
+    let doc = roxmltree::Document::parse_with_options(&text, options).unwrap();
+    let text_of = |node: roxmltree::Node, tag: &str| {
+        node.children()
+            .find(|n| n.has_tag_name(tag))
+            .and_then(|n| n.text())
+            .unwrap_or_default()
+            .to_string()
+    };
+    let crs = doc
+        .descendants()
+        .find(|n| n.has_tag_name("projectCrs"))
+        .unwrap();
+    assert!(
+        crs.descendants()
+            .any(|n| n.has_tag_name("authid") && n.text() == Some("EPSG:2154"))
+    );
+    let layers: Vec<roxmltree::Node> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("maplayer"))
+        .collect();
+    let mut names = Vec::new();
+    for l in &layers {
+        let source = text_of(*l, "datasource");
+        assert!(out.join(&source).is_file(), "{source} does not exist");
+        names.push(text_of(*l, "layername"));
+    }
+    for name in [
+        "Reach_probability",
+        "E_95",
+        "Ph_95",
+        "Nr_passages",
+        "trajectories",
+        "stems",
+        "Hillshade (DEM)",
+    ] {
+        assert!(
+            names.iter().any(|n| n == name),
+            "{name} missing from {names:?}"
+        );
+    }
+    let ids: Vec<String> = layers.iter().map(|l| text_of(*l, "id")).collect();
+    let tree: Vec<roxmltree::Node> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("layer-tree-layer"))
+        .collect();
+    assert_eq!(tree.len(), layers.len());
+    for t in &tree {
+        assert!(ids.iter().any(|id| Some(id.as_str()) == t.attribute("id")));
+    }
+    // the hillshade is the bottom of the tree; the E_95 layer has its style's ramp
+    assert_eq!(
+        tree.last().unwrap().attribute("name"),
+        Some("Hillshade (DEM)")
+    );
+    let e95 = layers
+        .iter()
+        .find(|l| text_of(**l, "layername") == "E_95")
+        .unwrap();
+    let qml = std::fs::read_to_string(out.join("E_95.qml")).unwrap();
+    let first_item = qml.lines().find(|l| l.contains("<item ")).unwrap().trim();
+    let e95_xml = &text[e95.range()];
+    assert!(
+        e95_xml.contains(first_item),
+        "E_95's renderer differs from E_95.qml"
+    );
+}

@@ -10,12 +10,12 @@ use crate::layers::{ScaleKind, style};
 use crate::{ReportError, ReportInput, geojson, qml};
 
 /// Writes `<name>.qml`, the QGIS style of the raster `name` (`grid`), into `out`; returns
-/// its path.
+/// its path and the style's `<pipe>` element (for the QGIS project).
 pub(crate) fn write_style(
     out: &Path,
     name: &str,
     grid: &impl RasterView,
-) -> Result<PathBuf, ReportError> {
+) -> Result<(PathBuf, String), ReportError> {
     let style = style(name);
     // A raster with nothing to colour still gets a style, on a unit scale.
     let scale = style.fit(grid).unwrap_or_else(|| ColorScale {
@@ -31,7 +31,7 @@ pub(crate) fn write_style(
     });
     let path = out.join(format!("{name}.qml"));
     qml::write_qml(&path, &style, &scale)?;
-    Ok(path)
+    Ok((path, qml::pipe(&style, &scale)))
 }
 
 /// Writes `trajectories.geojson` when trajectories were recorded and `stems.geojson` when

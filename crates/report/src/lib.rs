@@ -34,6 +34,7 @@ pub mod layers;
 pub mod maps;
 pub mod plots;
 pub mod profiles;
+mod project;
 pub mod qml;
 mod run;
 mod sections;
@@ -167,15 +168,19 @@ pub fn write(out: &Path, input: &ReportInput<'_>) -> Result<Vec<PathBuf>, Report
     let base = MapBase::new(input.scenario, input.stems, &input.label)?;
     let mut layers = LayerMaps::default();
     let mut written = Vec::new();
+    let mut pipes = Vec::new();
     // One raster in memory at a time: its QGIS style, then its map.
     for name in input.raster_names() {
         let Some(grid) = input.raster(&name) else {
             continue;
         };
-        written.push(gis::write_style(out, &name, &grid)?);
+        let (style, pipe) = gis::write_style(out, &name, &grid)?;
+        written.push(style);
+        pipes.push((name.clone(), pipe));
         layers.draw(&dir, input, &base, &name, grid)?;
     }
     written.extend(gis::write_vectors(out, input)?);
+    written.push(project::write_project(out, input, &pipes)?);
     let summary = input.results.summary();
     let sections = sections::figure_sections(&dir, input, &base, layers, &summary)?;
     written.extend(

@@ -39,10 +39,7 @@ pub fn ramp_items(scale: &ColorScale) -> Vec<(f64, (u8, u8, u8))> {
 
 /// The `.qml` document of a layer drawn with `style` over `scale`.
 pub fn qml(style: &LayerStyle, scale: &ColorScale) -> String {
-    let items = ramp_items(scale);
-    let hex = |(r, g, b): (u8, u8, u8)| format!("#{r:02x}{g:02x}{b:02x}");
     let mut s = String::new();
-    let (min, max) = (number(scale.min), number(scale.max));
     let _ = writeln!(
         s,
         "<!DOCTYPE qgis PUBLIC 'http://mrcc.com/qgis.dtd' 'SYSTEM'>"
@@ -51,6 +48,19 @@ pub fn qml(style: &LayerStyle, scale: &ColorScale) -> String {
         s,
         "<qgis version=\"3.28.0\" styleCategories=\"AllStyleCategories\">"
     );
+    s += &pipe(style, scale);
+    let _ = writeln!(s, "  <blendMode>0</blendMode>");
+    let _ = writeln!(s, "</qgis>");
+    s
+}
+
+/// The `<pipe>` element of a layer drawn with `style` over `scale`: its renderer, as a
+/// style file and a project's map layer both hold it.
+pub fn pipe(style: &LayerStyle, scale: &ColorScale) -> String {
+    let items = ramp_items(scale);
+    let hex = |(r, g, b): (u8, u8, u8)| format!("#{r:02x}{g:02x}{b:02x}");
+    let mut s = String::new();
+    let (min, max) = (number(scale.min), number(scale.max));
     let _ = writeln!(s, "  <pipe>");
     let _ = writeln!(
         s,
@@ -94,8 +104,6 @@ pub fn qml(style: &LayerStyle, scale: &ColorScale) -> String {
     );
     let _ = writeln!(s, "    <rasterresampler maxOversampling=\"2\"/>");
     let _ = writeln!(s, "  </pipe>");
-    let _ = writeln!(s, "  <blendMode>0</blendMode>");
-    let _ = writeln!(s, "</qgis>");
     s
 }
 
