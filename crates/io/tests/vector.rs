@@ -285,3 +285,36 @@ fn bad_layers_are_errors_naming_file_layer_and_feature() {
     let e = err(read_layer(&dir.path().join("none.geojson"), None).unwrap_err());
     assert!(e.contains("no such vector file"), "{e}");
 }
+
+/// Fuzzing found a polygon record whose part count asked the `shapefile` crate for 4 GB: the
+/// counts are now checked against the record's bytes first. The fixture's .shp, with the
+/// count of its first record's parts set to 2³⁰, is refused with a message.
+#[test]
+fn a_shapefile_record_declaring_huge_counts_is_refused_before_reading() {
+    let shp = std::fs::read(data("stands.shp")).unwrap();
+    let dbf = std::fs::read(data("stands.dbf")).unwrap();
+    assert!(rockfall_io::vector::parse_shapefile(&shp, &dbf, None, Path::new("a.shp")).is_ok());
+    let mut lying = shp.clone();
+    // record 1: header at 100, content at 108, its part count at 108 + 36
+    lying[144..148].copy_from_slice(&(1i32 << 30).to_le_bytes());
+    let e = rockfall_io::vector::parse_shapefile(&lying, &dbf, None, Path::new("a.shp"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("a.shp") && e.contains("record 1 declares more parts"),
+        "{e}"
+    );
+    // a part starting past the points: the crate would size that part from the difference
+    let mut misplaced = shp.clone();
+    misplaced[156..160].copy_from_slice(&(1i32 << 28).to_le_bytes());
+    let e = rockfall_io::vector::parse_shapefile(&misplaced, &dbf, None, Path::new("a.shp"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("record 1: part 2 starts at point"), "{e}");
+    let mut truncated = shp;
+    truncated.truncate(130);
+    let e = rockfall_io::vector::parse_shapefile(&truncated, &dbf, None, Path::new("a.shp"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("runs past the end"), "{e}");
+}

@@ -4,7 +4,7 @@
 use super::{Feature, Geometry, Layer, Value, VectorError, Xy};
 use rockfall_raster::Crs;
 use shapefile::dbase::FieldValue;
-use shapefile::{Point, PolygonRing, Shape};
+use shapefile::{Point, PolygonRing, ReadableShape, Shape};
 use std::io::Cursor;
 use std::path::Path;
 
@@ -16,26 +16,33 @@ pub fn parse_shapefile(
     prj: Option<&str>,
     path: &Path,
 ) -> Result<Layer, VectorError> {
-    let bad =
-        |e: shapefile::Error| VectorError::file(path, format!("not a readable Shapefile: {e}"));
-    let shapes = shapefile::ShapeReader::new(Cursor::new(shp)).map_err(bad)?;
-    let records = shapefile::dbase::Reader::new(Cursor::new(dbf))
+    let contents = records(shp)
+        .map_err(|m| VectorError::file(path, format!("not a readable Shapefile: {m}")))?;
+    let mut table = shapefile::dbase::Reader::new(Cursor::new(dbf))
         .map_err(|e| VectorError::file(path, format!("the .dbf is not readable: {e}")))?;
-    let mut reader = shapefile::Reader::new(shapes, records);
+    let mut rows = table.iter_records();
     let mut layer = Layer {
         path: path.to_path_buf(),
         name: (path.file_stem())
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
         crs: prj.map(Crs::from_wkt),
-        features: Vec::new(),
+        features: Vec::with_capacity(contents.len()),
     };
-    for (index, item) in reader.iter_shapes_and_records().enumerate() {
+    for (index, content) in contents.into_iter().enumerate() {
         let id = index as i64;
-        let (shape, record) = item.map_err(|e| VectorError::feature(&layer, id, e.to_string()))?;
-        let geometry = geometry(shape).map_err(|m| VectorError::feature(&layer, id, m))?;
-        let attributes = record
-            .into_iter()
+        let fail = |layer: &Layer, m: String| VectorError::feature(layer, id, m);
+        // the record's content alone: the crate cannot read past it
+        let size =
+            i32::try_from(content.len()).map_err(|_| fail(&layer, "record too long".into()))?;
+        let shape = Shape::read_from(&mut Cursor::new(content), size)
+            .map_err(|e| fail(&layer, e.to_string()))?;
+        let record = match rows.next() {
+            Some(r) => r.map_err(|e| fail(&layer, format!("its .dbf row: {e}")))?,
+            None => return Err(fail(&layer, "no .dbf row for this shape".into())),
+        };
+        let geometry = geometry(shape).map_err(|m| fail(&layer, m))?;
+        let attributes = (record.into_iter())
             .map(|(name, v)| (name, value(v)))
             .collect();
         layer.features.push(Feature {
@@ -45,6 +52,75 @@ pub fn parse_shapefile(
         });
     }
     Ok(layer)
+}
+
+/// The `.shp` records' contents (ESRI Shapefile Technical Description, 1998: a 100-byte
+/// header, then records of an 8-byte big-endian header and a content of `length` 16-bit
+/// words), each checked to lie in the file and, for multi-part shapes, to hold the parts
+/// and points it counts, with part starts rising within the points. The `shapefile` crate sizes its buffers from those counts and reads
+/// records one after the other, so a few lying bytes would otherwise ask it for gigabytes
+/// (found by fuzzing): it is given one checked record at a time.
+fn records(shp: &[u8]) -> Result<Vec<&[u8]>, String> {
+    let word = |at: usize, big: bool| {
+        let b: [u8; 4] = shp.get(at..at + 4)?.try_into().ok()?;
+        Some(if big {
+            i32::from_be_bytes(b)
+        } else {
+            i32::from_le_bytes(b)
+        })
+    };
+    if shp.len() < 100 || word(0, true) != Some(9994) {
+        return Err("no Shapefile header (file code 9994)".into());
+    }
+    let mut out = Vec::new();
+    let mut pos = 100;
+    while pos + 8 <= shp.len() {
+        let record = out.len() + 1;
+        let count = |at: usize, big: bool| -> Result<usize, String> {
+            usize::try_from(word(at, big).unwrap_or(-1))
+                .map_err(|_| format!("record {record}: a length or count is missing or negative"))
+        };
+        let bytes = count(pos + 4, true)?.saturating_mul(2);
+        let start = pos + 8;
+        let content = (shp.get(start..start.saturating_add(bytes)))
+            .ok_or_else(|| format!("record {record} runs past the end of the file"))?;
+        let need = match word(start, false).unwrap_or(0) {
+            // polyline, polygon (plain, Z, M): parts and points after the bounding box
+            3 | 5 | 13 | 15 | 23 | 25 => (count(start + 36, false)?.saturating_mul(4))
+                .saturating_add(count(start + 40, false)?.saturating_mul(16))
+                .saturating_add(44),
+            // multipatch: parts, their types, points
+            31 => (count(start + 36, false)?.saturating_mul(8))
+                .saturating_add(count(start + 40, false)?.saturating_mul(16))
+                .saturating_add(44),
+            // multipoint (plain, Z, M): points after the bounding box
+            8 | 18 | 28 => (count(start + 36, false)?.saturating_mul(16)).saturating_add(40),
+            _ => 0,
+        };
+        if need > bytes {
+            return Err(format!(
+                "record {record} declares more parts or points than its {bytes} bytes hold"
+            ));
+        }
+        if matches!(word(start, false), Some(3 | 5 | 13 | 15 | 23 | 25 | 31)) {
+            // each part starts at a point index: rising, and within the points
+            let (parts, points) = (count(start + 36, false)?, count(start + 40, false)?);
+            let mut last = 0;
+            for k in 0..parts {
+                let first = count(start + 44 + 4 * k, false)?;
+                if first < last || first > points {
+                    return Err(format!(
+                        "record {record}: part {} starts at point {first} of {points}",
+                        k + 1
+                    ));
+                }
+                last = first;
+            }
+        }
+        out.push(content);
+        pos = start + bytes;
+    }
+    Ok(out)
 }
 
 fn value(v: FieldValue) -> Value {
