@@ -14,6 +14,7 @@ use rockfall_scenario::{
 use rockfall_terrain::{Dem, SurfaceMap, Terrain};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 /// Default soil type when a scenario gives none: class 4 (talus slope, r_n 0.38).
 pub const DEFAULT_SOILTYPE: u8 = 4;
@@ -40,6 +41,7 @@ pub fn parse_scenario(text: &str, path: &Path) -> Result<Scenario, InputError> {
         sources: BTreeMap::new(),
         frame: None,
         notes: Vec::new(),
+        layers: BTreeMap::new(),
     };
     let scenario = r.build(file, path)?;
     scenario
@@ -59,6 +61,9 @@ struct Resolver {
     frame: Option<Frame>,
     /// What reading found worth saying (printed by `check`).
     notes: Vec<String>,
+    /// Vector layers read so far, by (file, layer asked for): a layer that gives several
+    /// keys (a stand layer's attributes) is read and checked once.
+    layers: BTreeMap<(PathBuf, Option<String>), Rc<vec_io::Layer>>,
 }
 
 /// What a per-cell key burnt from polygons takes outside every polygon: its default, except
@@ -99,7 +104,8 @@ impl Resolver {
                 let frame = self.frame()?;
                 let (grid, cells) =
                     inputs::field_grid(&layer, &v.field, &frame, outside(param, default), param)?;
-                self.notes.push(inputs::describe(param, &layer, cells));
+                self.notes
+                    .push(inputs::describe(param, &layer, cells, "cells covered"));
                 Ok(Field::Grid(grid))
             }
         }
@@ -117,11 +123,17 @@ impl Resolver {
         param: &str,
         p: &str,
         layer: Option<&str>,
-    ) -> Result<vec_io::Layer, InputError> {
+    ) -> Result<Rc<vec_io::Layer>, InputError> {
         let path = self.path(p);
         self.sources.insert(param.into(), path.clone());
+        let key = (path, layer.map(str::to_string));
+        if let Some(l) = self.layers.get(&key) {
+            return Ok(Rc::clone(l));
+        }
         let frame = self.frame()?;
-        Ok(inputs::open(&path, layer, &frame, &mut self.notes)?)
+        let l = Rc::new(inputs::open(&key.0, layer, &frame, &mut self.notes)?);
+        self.layers.insert(key, Rc::clone(&l));
+        Ok(l)
     }
 
     /// A layer reference: (path, layer) when it names a vector file, else the raster path.
@@ -299,8 +311,12 @@ impl Resolver {
             Some(Ok((p, layer))) => {
                 let l = self.layer("release.cells", &p, layer.as_deref())?;
                 let cells = inputs::release_cells(&l, &self.frame()?)?;
-                self.notes
-                    .push(inputs::describe("release.cells", &l, cells.len()));
+                self.notes.push(inputs::describe(
+                    "release.cells",
+                    &l,
+                    cells.len(),
+                    "cells covered",
+                ));
                 cells
             }
             Some(Err(p)) => {
@@ -366,9 +382,8 @@ impl Resolver {
             })?;
             let l = self.layer("forest.trees", &p, layer.as_deref())?;
             let stems = inputs::stems(&l, &self.frame()?)?;
-            self.notes.push(
-                inputs::describe("forest.trees", &l, stems.len()).replace("cells covered", "stems"),
-            );
+            self.notes
+                .push(inputs::describe("forest.trees", &l, stems.len(), "stems"));
             return Ok(ForestSpec::Stems(stems));
         }
         if let Some(p) = f.trees_csv.or(f.treefile.clone()) {
@@ -427,7 +442,8 @@ impl Resolver {
                 let frame = self.frame()?;
                 let lines = inputs::net_lines(&l, &frame)?;
                 let cells: usize = lines.iter().map(|n| n.cells.len()).sum();
-                self.notes.push(inputs::describe("nets.lines", &l, cells));
+                self.notes
+                    .push(inputs::describe("nets.lines", &l, cells, "cells covered"));
                 for key in ["net_energy", "net_height"] {
                     self.sources.insert(key.into(), self.path(&p));
                 }

@@ -63,15 +63,20 @@ pub fn open(
     Ok(l)
 }
 
+/// The error of a feature whose geometry is not the kind `needed`.
+fn wrong_kind(layer: &Layer, f: &Feature, needed: &str) -> VectorError {
+    VectorError::feature(
+        layer,
+        f.id,
+        format!("{} where {needed} are needed", f.geometry.kind()),
+    )
+}
+
 fn polygons<'a>(layer: &Layer, f: &'a Feature) -> Result<Vec<&'a [Xy]>, VectorError> {
     match &f.geometry {
         Geometry::Polygons(ps) => Ok(ps.iter().flatten().map(Vec::as_slice).collect()),
         Geometry::Empty => Ok(Vec::new()),
-        g => Err(VectorError::feature(
-            layer,
-            f.id,
-            format!("{} where polygons are needed", g.kind()),
-        )),
+        _ => Err(wrong_kind(layer, f, "polygons")),
     }
 }
 
@@ -183,13 +188,7 @@ pub fn stems(layer: &Layer, frame: &Frame) -> Result<Vec<Stem>, VectorError> {
         let points = match &f.geometry {
             Geometry::Points(p) => p,
             Geometry::Empty => continue,
-            g => {
-                return Err(VectorError::feature(
-                    layer,
-                    f.id,
-                    format!("{} where tree points are needed", g.kind()),
-                ));
-            }
+            _ => return Err(wrong_kind(layer, f, "tree points")),
         };
         let dbh = number(layer, f, "dbh_cm")?
             .ok_or_else(|| VectorError::feature(layer, f.id, "`dbh_cm` is null"))?;
@@ -241,13 +240,7 @@ pub fn net_lines(layer: &Layer, frame: &Frame) -> Result<Vec<NetLine>, VectorErr
         let lines = match &f.geometry {
             Geometry::Lines(l) => l,
             Geometry::Empty => continue,
-            g => {
-                return Err(VectorError::feature(
-                    layer,
-                    f.id,
-                    format!("{} where net lines are needed", g.kind()),
-                ));
-            }
+            _ => return Err(wrong_kind(layer, f, "net lines")),
         };
         let need = |name: &str| {
             number(layer, f, name)?
@@ -255,28 +248,18 @@ pub fn net_lines(layer: &Layer, frame: &Frame) -> Result<Vec<NetLine>, VectorErr
                 .ok_or_else(|| VectorError::feature(layer, f.id, format!("`{name}` must be > 0")))
         };
         let (energy_kj, height_m) = (need("energy_kj")?, need("height_m")?);
-        let id = match f.attribute("net_id").or_else(|| f.attribute("id")) {
+        let id_key = ["net_id", "id"]
+            .into_iter()
+            .find(|k| f.attribute(k).is_some());
+        let id = match id_key.map(|key| number(layer, f, key)).transpose()? {
             None => k as u32 + 1,
+            Some(Some(v)) if v >= 1.0 && v.fract() == 0.0 && v <= f64::from(u32::MAX) => v as u32,
             Some(_) => {
-                let v = number(
+                return Err(VectorError::feature(
                     layer,
-                    f,
-                    if f.attribute("net_id").is_some() {
-                        "net_id"
-                    } else {
-                        "id"
-                    },
-                )?;
-                match v {
-                    Some(v) if v >= 1.0 && v.fract() == 0.0 && v <= f64::from(u32::MAX) => v as u32,
-                    _ => {
-                        return Err(VectorError::feature(
-                            layer,
-                            f.id,
-                            "the net id must be a whole number ≥ 1",
-                        ));
-                    }
-                }
+                    f.id,
+                    "the net id must be a whole number ≥ 1",
+                ));
             }
         };
         let mut cells: Vec<usize> = (lines.iter())
@@ -314,10 +297,11 @@ pub fn net_grids(nets: &[NetLine], frame: &Frame) -> [Grid<f64>; 3] {
     out
 }
 
-/// One line for `rockfall check`: the file, layer, features read and cells covered.
-pub fn describe(key: &str, layer: &Layer, cells: usize) -> String {
+/// One line for `rockfall check`: the file, layer, features read and what they gave —
+/// `count` of `what` (e.g. "cells covered", "stems").
+pub fn describe(key: &str, layer: &Layer, count: usize, what: &str) -> String {
     format!(
-        "vector {key}: {} layer `{}`: {} features ({}), {cells} cells covered",
+        "vector {key}: {} layer `{}`: {} features ({}), {count} {what}",
         layer.path.display(),
         layer.name,
         layer.features.len(),
