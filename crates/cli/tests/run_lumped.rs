@@ -311,7 +311,7 @@ fn rocks_csv_holds_one_row_per_rock_agreeing_with_the_summary() {
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.len(), N);
     for (i, row) in rows.iter().enumerate() {
-        assert_eq!(row.len(), 15, "{row:?}");
+        assert_eq!(row.len(), 17, "{row:?}");
         assert_eq!(
             row[column("rock_id")],
             i.to_string(),

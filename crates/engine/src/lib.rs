@@ -41,12 +41,16 @@ pub use glam::DVec3 as V3;
 pub const G_MS2: f64 = 9.81;
 
 /// One rock of a run, as the driver hands it to an engine.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rock {
     /// Global rock number, 0-based, in release order.
     pub id: u64,
     /// Index of the rock within its release.
     pub index: u64,
+    /// This rock's volume over the scenario's (1 without `[rock] volume_variation_percent`):
+    /// the engine scales the rock by it, keeping its shape and density (lengths by its cube
+    /// root, mass by it, moments of inertia by its 5/3 power).
+    pub volume_factor: f64,
 }
 
 /// A rockfall engine: what differs between the lumped and the rigid engine.

@@ -7,6 +7,18 @@ use rockfall_rng::Purpose;
 use rockfall_scenario::Scenario;
 use std::sync::Arc;
 
+/// The volume factor of the rock keyed `keys`: uniform in `[1 − P/100, 1 + P/100]` for a
+/// variation of `P` % (Rockyfor3D's "additional variation of the block volume", Dorren 2016
+/// §2.5), drawn from the rock's own [`Purpose::Volume`] stream; exactly 1 for `P` = 0, with
+/// nothing drawn.
+fn volume_factor(seed: u64, variation_pct: f64, keys: &[u64]) -> f64 {
+    if variation_pct <= 0.0 {
+        return 1.0;
+    }
+    let u: f64 = rand::RngExt::random(&mut rockfall_rng::stream(seed, Purpose::Volume, keys));
+    1.0 + variation_pct / 100.0 * (2.0 * u - 1.0)
+}
+
 /// A scenario's releases, each launched by `engine`, with the master seed: everything a run
 /// of any set of its rocks needs.
 pub struct Plan<E: Engine> {
@@ -14,6 +26,8 @@ pub struct Plan<E: Engine> {
     releases: Releases,
     launches: Vec<E::Launch>,
     seed: u64,
+    /// `[rock] volume_variation_percent`, %.
+    volume_variation_pct: f64,
 }
 
 impl<E: Engine> Plan<E> {
@@ -37,6 +51,7 @@ impl<E: Engine> Plan<E> {
             releases,
             launches,
             seed: scenario.seed,
+            volume_variation_pct: scenario.rock.volume_variation_percent,
         })
     }
 
@@ -70,8 +85,13 @@ impl<E: Engine> Plan<E> {
     pub fn simulate(&self, id: u64, tally: &mut Tally, scratch: &mut E::Scratch) {
         let (k, index) = self.releases.numbering().locate(id);
         let key = self.releases.list()[k].key();
-        let mut rng = rockfall_rng::stream(self.seed, Purpose::Rock, &[key[0], key[1], index]);
-        let rock = Rock { id, index };
+        let keys = [key[0], key[1], index];
+        let mut rng = rockfall_rng::stream(self.seed, Purpose::Rock, &keys);
+        let rock = Rock {
+            id,
+            index,
+            volume_factor: volume_factor(self.seed, self.volume_variation_pct, &keys),
+        };
         self.engine
             .simulate(&self.launches[k], rock, &mut rng, tally, scratch);
     }

@@ -93,6 +93,8 @@ mod tests {
             percentiles: Vec::new(),
             trajectories: 0,
             rock_ends: false,
+            screen_crossings: false,
+            elevation: Default::default(),
         });
         // 11 rocks in three ranges: no chunk size below divides them
         let rocks = RockSet::from_ranges([3..5, 9..17, 40..41]);

@@ -297,11 +297,19 @@ impl Resolver {
                 "a sphere has equal dimensions; use `diameter_m`",
             ));
         }
+        let variation = r.volume_variation_percent.unwrap_or(0.0);
+        if !(0.0..100.0).contains(&variation) {
+            return Err(self.invalid(
+                "rock.volume_variation_percent",
+                format!("{variation} %: the volume varies by a share in [0, 100) %"),
+            ));
+        }
         Ok(RockSpec {
             shape,
             dims_m,
             volume_m3,
             density_kg_m3: density,
+            volume_variation_percent: variation,
         })
     }
 
@@ -554,6 +562,7 @@ fn output(o: Option<schema::OutputSec>) -> OutputSettings {
         trajectory_interval_s: o.trajectory_interval_s.unwrap_or(d.trajectory_interval_s),
         ascii_rasters: o.ascii_rasters.unwrap_or(d.ascii_rasters),
         rocks_csv: o.rocks_csv.unwrap_or(d.rocks_csv),
+        screen_crossings: o.screen_crossings.unwrap_or(d.screen_crossings),
         percentiles: o.percentiles.unwrap_or(d.percentiles),
     }
 }

@@ -88,6 +88,7 @@ pub struct RockSec {
     pub d3_m: Option<Param>,
     pub volume_m3: Option<f64>,
     pub density_kg_m3: Option<Param>,
+    pub volume_variation_percent: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -215,5 +216,6 @@ pub struct OutputSec {
     pub trajectory_interval_s: Option<f64>,
     pub ascii_rasters: Option<bool>,
     pub rocks_csv: Option<bool>,
+    pub screen_crossings: Option<bool>,
     pub percentiles: Option<Vec<f64>>,
 }

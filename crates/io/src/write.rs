@@ -46,6 +46,7 @@ pub fn fits_rockyfor3d(s: &Scenario) -> bool {
         && s.release.points.is_empty()
         && matches!(s.rock.shape, RockShape::Block(_) | RockShape::PerCell(_))
         && s.rock.volume_m3.is_none()
+        && s.rock.volume_variation_percent == 0.0
 }
 
 struct Writer {
@@ -192,6 +193,13 @@ impl Writer {
             let _ = writeln!(t, "volume_m3 = {}", num(v));
         }
         t += &self.param("density_kg_m3", "density.asc", &r.density_kg_m3)?;
+        if r.volume_variation_percent > 0.0 {
+            let _ = writeln!(
+                t,
+                "volume_variation_percent = {}",
+                num(r.volume_variation_percent)
+            );
+        }
 
         t += "\n[release]\n";
         let rel = &s.release;
@@ -340,11 +348,12 @@ fn settings_toml(s: &Scenario, t: &mut String) {
     let _ = write!(
         t,
         "\n[output]\ntrajectories = {}\ntrajectory_interval_s = {}\nascii_rasters = {}\n\
-         rocks_csv = {}\npercentiles = {}\n",
+         rocks_csv = {}\nscreen_crossings = {}\npercentiles = {}\n",
         o.trajectories,
         num(o.trajectory_interval_s),
         o.ascii_rasters,
         o.rocks_csv,
+        o.screen_crossings,
         arr(&o.percentiles)
     );
 }

@@ -25,6 +25,8 @@ use rockfall_scenario::rock::BlockShape;
 pub struct RockBody {
     /// Block shape.
     pub shape: BlockShape,
+    /// Volume, m³.
+    pub volume_m3: f64,
     /// Mass, kg.
     pub mass_kg: f64,
     /// Radius for contact, rolling and eq. 3, m.
@@ -41,7 +43,8 @@ impl RockBody {
         if !dims_m.iter().all(|&d| ok(d)) || !ok(density_kg_m3) {
             return None;
         }
-        let mass_kg = density_kg_m3 * shape.volume_m3(dims_m);
+        let volume_m3 = shape.volume_m3(dims_m);
+        let mass_kg = density_kg_m3 * volume_m3;
         let mut d = dims_m;
         d.sort_by(f64::total_cmp);
         let [_, b, c] = d;
@@ -56,10 +59,25 @@ impl RockBody {
         };
         Some(RockBody {
             shape,
+            volume_m3,
             mass_kg,
             radius_m,
             inertia_kgm2,
         })
+    }
+
+    /// The same rock with `factor` (finite, positive) times the volume, shape and density
+    /// kept: lengths (the radius) scale by `factor^(1/3)`, volume and mass by `factor`, the
+    /// moment of inertia (∝ m R²) by `factor^(5/3)`.
+    pub fn with_volume_factor(&self, factor: f64) -> RockBody {
+        let length = factor.cbrt();
+        RockBody {
+            volume_m3: self.volume_m3 * factor,
+            mass_kg: self.mass_kg * factor,
+            radius_m: self.radius_m * length,
+            inertia_kgm2: self.inertia_kgm2 * factor * length * length,
+            ..*self
+        }
     }
 
     /// `m R² / (m R² + I)`: the share of a rolling rock's kinetic energy that is translational

@@ -184,10 +184,16 @@ impl Engine for LumpedModel<'_> {
         tally: &mut Tally,
         scratch: &mut Scratch,
     ) {
-        let launch = Launch {
+        let mut launch = Launch {
             rock_id: rock.id,
             ..*launch
         };
+        if rock.volume_factor != 1.0 {
+            // the rock rests on the same ground point: its centre moves with its radius
+            let body = launch.body.with_volume_factor(rock.volume_factor);
+            launch.p.z += body.radius_m - launch.body.radius_m;
+            launch.body = body;
+        }
         simulate(&self.world(), &launch, rng, tally, scratch);
     }
 }

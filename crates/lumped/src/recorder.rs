@@ -114,6 +114,8 @@ impl Rock<'_, '_, '_> {
                 velocity_ms: u.length(),
                 energy_j: self.energy_j(u),
                 jump_height_m: q.z - zg,
+                x_m: q.x,
+                y_m: q.y,
             };
             self.tally.screen_crossing(k, crossing);
         }

@@ -109,6 +109,8 @@ pub fn simulate(
         x_m: launch.p.x,
         y_m: launch.p.y,
         z_m: launch.p.z,
+        volume_m3: launch.body.volume_m3,
+        mass_kg: launch.body.mass_kg,
     });
     let recording = tally.records();
     let mut rock = Rock {

@@ -2,10 +2,12 @@
 
 use std::path::Path;
 
-use plotters::prelude::{Color, Rectangle};
+use plotters::prelude::{Color, PathElement, Rectangle, Text};
 use plotters::style::ShapeStyle;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::clip::{Point, Window};
+use crate::font::font;
 use crate::layout::{
     Chart, FIGURE_TITLE_HEIGHT, draw_legend, figure_body, legend_label, panel_chart,
 };
@@ -13,6 +15,21 @@ use crate::palette::series_rgb;
 use crate::range::fit;
 use crate::write::render_png;
 use crate::{Axes, Bars, PlotError};
+
+/// A vertical line across a histogram at `x` (a design limit, say), in the colour of bar
+/// set `series`, labelled at its top.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mark {
+    /// Position on the x axis, in the axis' unit.
+    pub x: f64,
+    /// Text written beside the top of the line.
+    pub label: String,
+    /// Index of the bar set whose colour the line takes.
+    pub series: usize,
+}
+
+/// Width (px) of a [`Mark`]'s line.
+const MARK_WIDTH: u32 = 2;
 
 /// Size (px) of a [`histogram`] figure: one panel under the figure title band.
 pub const HISTOGRAM_SIZE: (u32, u32) = (800, FIGURE_TITLE_HEIGHT + 500);
@@ -32,15 +49,34 @@ const OUTLINE_WIDTH: u32 = 2;
 /// [`PlotError::NoBars`] when `bars` is empty, [`PlotError::InvalidRange`] for a bad fixed
 /// range, [`PlotError::Io`] if the file cannot be written.
 pub fn histogram(path: &Path, title: &str, axes: &Axes, bars: &[Bars]) -> Result<(), PlotError> {
+    histogram_marked(path, title, axes, bars, &[])
+}
+
+/// A [`histogram`] with vertical [`Mark`]s drawn over the bars; a fitted x range also takes
+/// in every finite mark, so a limit beyond the largest value still shows.
+///
+/// # Errors
+/// As [`histogram`].
+pub fn histogram_marked(
+    path: &Path,
+    title: &str,
+    axes: &Axes,
+    bars: &[Bars],
+    marks: &[Mark],
+) -> Result<(), PlotError> {
     if bars.is_empty() {
         return Err(PlotError::NoBars);
     }
-    let window = histogram_window(axes, bars)?;
+    let marks: Vec<&Mark> = marks.iter().filter(|m| m.x.is_finite()).collect();
+    let window = histogram_window(axes, bars, &marks)?;
     render_png(path, HISTOGRAM_SIZE, |root| {
         let body = figure_body(root, title)?;
         let mut chart = panel_chart(&body, None, axes, window)?;
         for (i, set) in bars.iter().enumerate() {
             draw_bars(&mut chart, set, i, window)?;
+        }
+        for (k, m) in marks.iter().enumerate() {
+            draw_mark(&mut chart, m, k, window)?;
         }
         if bars.len() > 1 || bars.iter().any(|b| !b.label.is_empty()) {
             let points = bars.iter().flat_map(rectangles).flat_map(bar_samples);
@@ -65,11 +101,12 @@ fn bar_samples([(lo, _), (hi, h)]: [Point; 2]) -> impl Iterator<Item = Point> {
         .flat_map(move |x| (0..=4).map(move |k| (x, h * f64::from(k) / 4.0)))
 }
 
-/// Fixed ranges, or x fitted to the bin edges and y from zero to the bar heights.
-fn histogram_window(axes: &Axes, bars: &[Bars]) -> Result<Window, PlotError> {
+/// Fixed ranges, or x fitted to the bin edges and marks and y from zero to the bar heights.
+fn histogram_window(axes: &Axes, bars: &[Bars], marks: &[&Mark]) -> Result<Window, PlotError> {
     let corners = || bars.iter().flat_map(rectangles).flatten();
+    let xs = corners().map(|p| p.0).chain(marks.iter().map(|m| m.x));
     Ok(Window {
-        x: fit("x range", axes.x_range, corners().map(|p| p.0), false)?,
+        x: fit("x range", axes.x_range, xs, false)?,
         y: fit("y range", axes.y_range, corners().map(|p| p.1), true)?,
     })
 }
@@ -81,6 +118,30 @@ fn clip_rect([a, b]: [Point; 2], window: Window) -> Option<[Point; 2]> {
     let y0 = a.1.min(b.1).max(window.y.lo);
     let y1 = a.1.max(b.1).min(window.y.hi);
     (x0 < x1 && y0 <= y1).then_some([(x0, y0), (x1, y1)])
+}
+
+/// Draws mark number `k` (labels of successive marks step down, so that close limits stay
+/// legible), when inside the x range.
+fn draw_mark(chart: &mut Chart<'_>, m: &Mark, k: usize, window: Window) -> Result<(), PlotError> {
+    if m.x < window.x.lo || m.x > window.x.hi {
+        return Ok(());
+    }
+    let style = series_rgb(m.series).stroke_width(MARK_WIDTH);
+    let (lo, hi) = (window.y.lo, window.y.hi);
+    chart.draw_series(std::iter::once(PathElement::new(
+        vec![(m.x, lo), (m.x, hi)],
+        style,
+    )))?;
+    let y = hi - (hi - lo) * (0.04 + 0.07 * k as f64);
+    let text_style = font(13.0)
+        .color(&series_rgb(m.series))
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    chart.draw_series(std::iter::once(Text::new(
+        format!(" {}", m.label),
+        (m.x, y),
+        text_style,
+    )))?;
+    Ok(())
 }
 
 /// Draws set `i`: filled for the first set, outlined for the others.

@@ -51,7 +51,7 @@ mod write;
 mod xy;
 
 pub use error::PlotError;
-pub use histogram::{HISTOGRAM_SIZE, histogram};
+pub use histogram::{HISTOGRAM_SIZE, Mark, histogram, histogram_marked};
 pub use layout::{FIGURE_TITLE_HEIGHT, PANEL_HEIGHT, PANEL_WIDTH};
 pub use map::{COLOR_BAR_WIDTH, MAP_PANEL_HEIGHT, colored_lines_panels};
 pub use map_figure::{

@@ -119,6 +119,29 @@ pub const SYMMETRIC_PERCENTILE: f64 = 98.0;
 /// `Forest_effect_*` difference). Unknown names get a neutral linear viridis style.
 pub fn style(name: &str) -> LayerStyle {
     use ScaleKind::{Linear, Log, Symmetric};
+    match name {
+        "E_95CI" => {
+            return LayerStyle::new("Kinetic energy, mean + 1.645 sd", "kJ", Ramp::Magma, Linear)
+                .says(
+                    "Rockyfor3D's E_95CI: mean + 1.645 standard deviations of the passages' \
+                     energies, the value 95 % of them stay below if normally distributed.",
+                );
+        }
+        "Ph_95CI" => {
+            return LayerStyle::new("Passing height, mean + 1.645 sd", "m", Ramp::Plasma, Linear)
+                .says(
+                    "Rockyfor3D's Ph_95CI: mean + 1.645 standard deviations of the passing \
+                     heights (rock centre above the ground).",
+                );
+        }
+        "EL_angles" => {
+            return LayerStyle::new("Energy-line angle", "°", Ramp::Cividis, Linear).says(
+                "Largest angle above the horizontal from a reaching rock's release cell to the \
+                 cell, DEM surface to DEM surface.",
+            );
+        }
+        _ => {}
+    }
     if let Some(p) = name.strip_prefix("E_").filter(|p| *p != "mean") {
         let title = format!("Kinetic energy, {p}th percentile");
         return LayerStyle::new(&title, "kJ", Ramp::Magma, Linear).says(&format!(
@@ -207,6 +230,15 @@ mod tests {
             .unwrap();
         assert_eq!((d.min, d.max), (-80.0, 80.0));
         assert_eq!(d.ramp, Ramp::Diverging);
+    }
+
+    #[test]
+    fn the_parity_rasters_are_not_taken_for_energy_percentiles() {
+        assert_eq!(style("E_95CI").title, "Kinetic energy, mean + 1.645 sd");
+        assert_eq!(style("E_95CI").unit, "kJ");
+        assert_eq!(style("Ph_95CI").unit, "m");
+        assert_eq!(style("EL_angles").unit, "°");
+        assert_eq!(style("E_95").title, "Kinetic energy, 95th percentile");
     }
 
     #[test]

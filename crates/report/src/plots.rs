@@ -10,7 +10,8 @@
 use std::path::Path;
 
 use rockfall_plot::{
-    Axes, Bars, ColorScale, LinePanel, Polyline, Ramp, colored_lines_panels, histogram, nice_step,
+    Axes, Bars, ColorScale, LinePanel, Mark, Polyline, Ramp, colored_lines_panels, histogram,
+    histogram_marked, nice_step,
 };
 use rockfall_results::{Bin, Distribution, Quantity, Results, Summary, TrajectoryRow};
 
@@ -134,17 +135,21 @@ pub fn screens(
             Quantity::ScreenJumpHeight,
         ),
     ] {
-        let dists: Vec<(String, Distribution)> = (names.iter().enumerate())
-            .filter_map(|(i, n)| Some((n.clone(), results.distribution(quantity(i))?)))
-            .filter(|(_, d)| d.count > 0)
+        let dists: Vec<(usize, String, Distribution)> = (names.iter().enumerate())
+            .filter_map(|(i, n)| Some((i, n.clone(), results.distribution(quantity(i))?)))
+            .filter(|(_, _, d)| d.count > 0)
             .collect();
         if dists.is_empty() {
             continue;
         }
-        let highest = dists.iter().map(|(_, d)| top(&d.bins)).fold(0.0, f64::max);
+        let highest = dists
+            .iter()
+            .map(|(_, _, d)| top(&d.bins))
+            .fold(0.0, f64::max);
         let width = nice_width(highest, DISPLAY_BINS);
+        let marks = limit_marks(summary, &dists, unit);
         let bars: Vec<Bars> = (dists.iter())
-            .map(|(n, d)| Bars {
+            .map(|(_, n, d)| Bars {
                 label: format!("{n} ({} crossings)", d.count),
                 bins: rebin(&d.bins, width, d.count),
             })
@@ -154,15 +159,51 @@ pub fn screens(
             &format!("{} ({unit})", what.to_lowercase()),
             &format!("share of crossings (% per {} {unit})", number(width)),
         );
-        let caption = match unit {
-            "kJ" => "Energy (translational + rotational) of every screen crossing.",
-            _ => "Height of the rock centre above the ground at every screen crossing.",
+        let caption = match (unit, marks.is_empty()) {
+            ("kJ", true) => "Energy (translational + rotational) of every screen crossing.",
+            ("kJ", false) => {
+                "Energy (translational + rotational) of every screen crossing; a vertical \
+                 line marks a screen's barrier capacity (`capacity_kj`), in its colour."
+            }
+            (_, true) => "Height of the rock centre above the ground at every screen crossing.",
+            _ => {
+                "Height of the rock centre above the ground at every screen crossing; a \
+                 vertical line marks a screen's barrier height (`height_m`), in its colour."
+            }
         };
         let fig = Figure::plot(dir, file, &title, caption);
-        histogram(&fig.path, &title, &axes, &bars)?;
+        histogram_marked(&fig.path, &title, &axes, &bars, &marks)?;
         figures.push(fig);
     }
     Ok(figures)
+}
+
+/// The barrier limits of the plotted screens (`dists`: screen index, name, distribution) as
+/// marks: capacity for the energy plot (`unit` kJ), height for the passing-height plot, each
+/// labelled with the limit and the share of crossings above it.
+fn limit_marks(
+    summary: &Summary,
+    dists: &[(usize, String, Distribution)],
+    unit: &str,
+) -> Vec<Mark> {
+    (dists.iter().enumerate())
+        .filter_map(|(series, (i, name, _))| {
+            let s = summary.screens.get(*i)?;
+            let (limit, over, what) = match unit {
+                "kJ" => (s.capacity_kj?, s.exceed_energy_fraction?, "capacity"),
+                _ => (s.height_m?, s.exceed_height_fraction?, "height"),
+            };
+            Some(Mark {
+                x: limit,
+                label: format!(
+                    "{name} {what} {} {unit}: {}% above",
+                    number(limit),
+                    number(100.0 * over)
+                ),
+                series,
+            })
+        })
+        .collect()
 }
 
 /// A few recorded trajectories in plan (and, with `profile`, in profile), coloured by

@@ -52,6 +52,12 @@ pub(crate) struct CellStats {
     pub(crate) energy_sum: u128,
     /// Sum of passing heights, µm.
     pub(crate) height_sum: u128,
+    /// Sum of squared visit energies, mJ² (saturating).
+    pub(crate) energy_sq_sum: u128,
+    /// Sum of squared passing heights, µm² (saturating).
+    pub(crate) height_sq_sum: u128,
+    /// Largest energy-line angle of a visit, degrees (NaN: none measured).
+    pub(crate) el_angle_max_deg: f64,
     /// Largest visit energy, J.
     pub(crate) energy_max_j: f64,
     /// Largest passing height, m.
@@ -77,6 +83,9 @@ impl CellStats {
             tree_height_max_m: 0.0,
             energy_sum: 0,
             height_sum: 0,
+            energy_sq_sum: 0,
+            height_sq_sum: 0,
+            el_angle_max_deg: f64::NAN,
             energy_max_j: 0.0,
             height_max_m: 0.0,
             velocity_max_ms: 0.0,
@@ -93,6 +102,26 @@ impl CellStats {
     /// Mean passing height, m.
     pub(crate) fn height_mean_m(&self) -> Option<f64> {
         crate::hist::mean(self.height_sum, self.visits, LENGTH_SCALE)
+    }
+
+    /// Sample standard deviation of the visit energies, J; `None` below two visits.
+    pub(crate) fn energy_sd_j(&self) -> Option<f64> {
+        sample_sd(
+            self.energy_sum,
+            self.energy_sq_sum,
+            self.visits,
+            ENERGY_SCALE,
+        )
+    }
+
+    /// Sample standard deviation of the passing heights, m; `None` below two visits.
+    pub(crate) fn height_sd_m(&self) -> Option<f64> {
+        sample_sd(
+            self.height_sum,
+            self.height_sq_sum,
+            self.visits,
+            LENGTH_SCALE,
+        )
     }
 
     /// `p`-th percentile of visit energies, J.
@@ -116,6 +145,9 @@ impl CellStats {
         self.tree_height_max_m = self.tree_height_max_m.max(o.tree_height_max_m);
         self.energy_sum += o.energy_sum;
         self.height_sum += o.height_sum;
+        self.energy_sq_sum = self.energy_sq_sum.saturating_add(o.energy_sq_sum);
+        self.height_sq_sum = self.height_sq_sum.saturating_add(o.height_sq_sum);
+        self.el_angle_max_deg = self.el_angle_max_deg.max(o.el_angle_max_deg);
         self.energy_max_j = self.energy_max_j.max(o.energy_max_j);
         self.height_max_m = self.height_max_m.max(o.height_max_m);
         self.velocity_max_ms = self.velocity_max_ms.max(o.velocity_max_ms);
@@ -129,6 +161,18 @@ impl CellStats {
         }
         self.sources = union_sorted(&self.sources, &o.sources);
     }
+}
+
+/// Sample standard deviation (divisor n − 1) from fixed-point sums of values and of their
+/// squares, in the quantity's unit; `None` below two values. The sums are exact integers, so
+/// the result does not depend on the order the values came in.
+fn sample_sd(sum: u128, sq_sum: u128, n: u64, scale: f64) -> Option<f64> {
+    (n >= 2).then(|| {
+        let n = n as f64;
+        let mean = sum as f64 / n;
+        let var = (sq_sum as f64 - mean * sum as f64) / (n - 1.0);
+        var.max(0.0).sqrt() / scale
+    })
 }
 
 fn add_saturating(a: &mut [u32], b: &[u32]) {
@@ -260,7 +304,15 @@ impl CellTable {
     }
 
     /// A visit of rock `rock_key` (= rock id + 1) released from `source` to `cell`.
-    pub(crate) fn visit(&mut self, cell: usize, rock_key: u64, source: u32, v: &CellVisit) {
+    /// `el_angle_deg`: the visit's energy-line angle, when measured.
+    pub(crate) fn visit(
+        &mut self,
+        cell: usize,
+        rock_key: u64,
+        source: u32,
+        v: &CellVisit,
+        el_angle_deg: Option<f64>,
+    ) {
         let Some(c) = self.entry(cell) else { return };
         let (e, h, s) = (
             clean(v.energy_j),
@@ -275,8 +327,17 @@ impl CellTable {
                 c.sources.insert(pos, source);
             }
         }
-        c.energy_sum += u128::from(fixed(e, ENERGY_SCALE));
-        c.height_sum += u128::from(fixed(h, LENGTH_SCALE));
+        let (fe, fh) = (
+            u128::from(fixed(e, ENERGY_SCALE)),
+            u128::from(fixed(h, LENGTH_SCALE)),
+        );
+        c.energy_sum += fe;
+        c.height_sum += fh;
+        c.energy_sq_sum = c.energy_sq_sum.saturating_add(fe * fe);
+        c.height_sq_sum = c.height_sq_sum.saturating_add(fh * fh);
+        if let Some(a) = el_angle_deg {
+            c.el_angle_max_deg = c.el_angle_max_deg.max(a);
+        }
         c.energy_max_j = c.energy_max_j.max(e);
         c.height_max_m = c.height_max_m.max(h);
         c.velocity_max_ms = c.velocity_max_ms.max(s);
@@ -346,11 +407,11 @@ mod tests {
             velocity_ms: 2.0,
             passing_height_m: 0.5,
         };
-        t.visit(9, 1, 0, &v);
+        t.visit(9, 1, 0, &v, None);
         assert!(t.touched().is_empty());
-        t.visit(2, 1, 7, &v);
-        t.visit(2, 1, 7, &v);
-        t.visit(2, 2, 3, &v);
+        t.visit(2, 1, 7, &v, None);
+        t.visit(2, 1, 7, &v, None);
+        t.visit(2, 2, 3, &v, None);
         let c = t.get(2).unwrap();
         assert_eq!((c.visits, c.reached, c.sources.clone()), (3, 2, vec![3, 7]));
         assert_eq!(c.energy_mean_j(), Some(10.0));
@@ -376,11 +437,11 @@ mod tests {
         };
         // a path down one column crosses 200 rows: 4 blocks (rows 0–63, …, 192–255)
         for row in 0..200 {
-            t.visit(g.index(row, 5_000), 1, 0, &v);
+            t.visit(g.index(row, 5_000), 1, 0, &v, None);
         }
         assert_eq!(t.blocks_allocated(), 4);
         // the same block again, the last cell of the grid, a deposit and a tree
-        t.visit(g.index(63, 5_055), 2, 0, &v);
+        t.visit(g.index(63, 5_055), 2, 0, &v, None);
         t.deposit(g.len() - 1);
         t.tree_impact(g.index(9_999, 0), 2.0, false);
         assert_eq!(t.blocks_allocated(), 6);

@@ -75,10 +75,11 @@ pub use results::{RasterCells, Results, RunInfo};
 pub use screens::ScreenSet;
 pub use summary::{MeanP95Max, Outcomes, Runout, ScreenSummary, Summary, TimeStats};
 pub use tally::Tally;
-pub use write::{ROCKS_HEADER, ResultsError, TRAJECTORY_HEADER, write_json};
+pub use write::{CROSSINGS_HEADER, ROCKS_HEADER, ResultsError, TRAJECTORY_HEADER, write_json};
 
-use rockfall_raster::{Crs, GridGeometry};
+use rockfall_raster::{Crs, Grid, GridGeometry};
 use rockfall_scenario::{Scenario, Screen};
+use std::sync::Arc;
 
 /// What the tallies need to know about the run before it starts.
 #[derive(Debug, Clone, PartialEq)]
@@ -95,8 +96,45 @@ pub struct Layout {
     /// Rocks with `rock_id < trajectories` have their trajectory recorded.
     pub trajectories: u64,
     /// Keep one [`RockRecord`] per rock (start, outcome, maxima) and write `rocks.csv`.
-    /// Memory then grows with the number of rocks: one record (120 bytes) per rock.
+    /// Memory then grows with the number of rocks: one record (136 bytes) per rock.
     pub rock_ends: bool,
+    /// Keep one record per screen crossing and write `screen_crossings.csv`
+    /// (`[output] screen_crossings`). Memory then grows with the crossings: 72 bytes each.
+    pub screen_crossings: bool,
+    /// The DEM the energy-line angles (`EL_angles`) are measured on; without it (a layout
+    /// read back from a tally file, whose cells already hold their angles) no new angle is
+    /// recorded.
+    pub elevation: Elevation,
+}
+
+/// The DEM heights a run's tallies read the energy-line angle from (`EL_angles`). Not part
+/// of a layout's identity: two layouts differing only here are equal (the DEM is part of the
+/// scenario fingerprint, checked separately), and it is never written into a tally file.
+#[derive(Clone, Default)]
+pub struct Elevation(pub Option<Arc<Grid<f64>>>);
+
+impl Elevation {
+    /// Height of the DEM at the centre of row-major `cell`, m; `None` without a DEM or at
+    /// nodata.
+    pub fn at(&self, cell: usize) -> Option<f64> {
+        self.0.as_ref()?.get_index(cell)
+    }
+}
+
+impl PartialEq for Elevation {
+    fn eq(&self, _: &Elevation) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for Elevation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.0.is_some() {
+            "Elevation(DEM)"
+        } else {
+            "Elevation(none)"
+        })
+    }
 }
 
 impl Layout {
@@ -112,6 +150,8 @@ impl Layout {
             percentiles: scenario.output.percentiles.clone(),
             trajectories: scenario.output.trajectories,
             rock_ends: scenario.output.rocks_csv,
+            screen_crossings: scenario.output.screen_crossings,
+            elevation: Elevation(Some(dem.shared_grid().clone())),
         }
     }
 }
@@ -129,6 +169,10 @@ pub struct RockStart {
     pub y_m: f64,
     /// Release position, m.
     pub z_m: f64,
+    /// The rock's volume, m³ (its own when `[rock] volume_variation_percent` varies it).
+    pub volume_m3: f64,
+    /// The rock's mass, kg.
+    pub mass_kg: f64,
 }
 
 /// One visit of a rock to a cell: the maxima over the time it spent in the cell.
@@ -151,6 +195,26 @@ pub struct ScreenCrossing {
     pub energy_j: f64,
     /// Vertical height of the rock centre above the ground at the crossing, m.
     pub jump_height_m: f64,
+    /// Where the rock centre crossed the screen in plan view, m.
+    pub x_m: f64,
+    /// Where the rock centre crossed the screen in plan view, m.
+    pub y_m: f64,
+}
+
+/// One crossing of a screen as `screen_crossings.csv` lists it (kept when
+/// [`Layout::screen_crossings`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CrossingRecord {
+    /// The rock.
+    pub rock_id: u64,
+    /// Index of the screen in [`Layout::screens`].
+    pub screen: usize,
+    /// Sequence number of this crossing within the rock's crossings.
+    pub seq: u32,
+    /// The crossing.
+    pub crossing: ScreenCrossing,
+    /// The rock's mass, kg.
+    pub mass_kg: f64,
 }
 
 /// How a rock's run ended.
@@ -207,7 +271,7 @@ pub struct RockEnd {
     pub time_s: f64,
     /// Events the engine simulated for this rock: flight arcs and rolling steps (lumped),
     /// time steps (rigid). Their rate is the engine's cost per unit of path; trajectories/s
-    /// also depend on how long the paths are. (32 bits keep a [`RockRecord`] at 120 bytes.)
+    /// also depend on how long the paths are. (32 bits keep a [`RockRecord`] at 136 bytes.)
     pub events: u32,
 }
 
@@ -220,6 +284,10 @@ pub struct RockRecord {
     pub source_cell: usize,
     /// Release position of the rock centre (x, y, z), m.
     pub start_m: [f64; 3],
+    /// The rock's volume, m³.
+    pub volume_m3: f64,
+    /// The rock's mass, kg.
+    pub mass_kg: f64,
     /// How and where the run ended: outcome, end position (m), runout (m), maximum speed
     /// (m/s) and jump height (m), tree impacts, stems broken, rebounds, simulated time (s).
     pub end: RockEnd,

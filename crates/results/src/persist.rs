@@ -15,7 +15,7 @@
 //!   what the run was and which rocks it covers; see `rockfall-sim`).
 //! - The body, little-endian: per-rock statistics, screens, speed profile, per-cell
 //!   statistics sorted by cell, trajectory rows sorted by (rock, sequence), rock records
-//!   sorted by rock. Histograms are stored as their non-empty bins. Floats are stored as
+//!   sorted by rock, screen-crossing records sorted by (rock, sequence). Histograms are stored as their non-empty bins. Floats are stored as
 //!   their bit patterns.
 //! - A closing `u64` FNV-1a checksum of everything before it, so that a truncated or
 //!   damaged file is refused rather than merged.
@@ -34,10 +34,13 @@ use crate::cells::{CellHists, CellStats};
 use crate::codec::{Dec, DecodeError, Enc, fnv1a};
 use crate::hist::{ENERGY_BINS, SHORT_BINS, Stat};
 use crate::profile::SpeedHistogram;
-use crate::{Event, Layout, Outcome, RockEnd, RockRecord, RunInfo, Tally, TrajectoryRow};
+use crate::{
+    CrossingRecord, Elevation, Event, Layout, Outcome, RockEnd, RockRecord, RunInfo,
+    ScreenCrossing, Tally, TrajectoryRow,
+};
 
 /// Version of the tally file format this build reads and writes.
-pub const TALLY_FORMAT: u32 = 2;
+pub const TALLY_FORMAT: u32 = 3;
 
 /// File name of a run folder's exact tallies.
 pub const TALLY_FILE: &str = "rockfall.tally";
@@ -106,6 +109,7 @@ struct LayoutRecord {
     percentiles: Vec<f64>,
     trajectories: u64,
     rock_ends: bool,
+    screen_crossings: bool,
 }
 
 /// A screen as a tally file's header holds it.
@@ -139,6 +143,7 @@ impl From<&Layout> for LayoutRecord {
             percentiles: l.percentiles.clone(),
             trajectories: l.trajectories,
             rock_ends: l.rock_ends,
+            screen_crossings: l.screen_crossings,
         }
     }
 }
@@ -169,6 +174,8 @@ impl From<LayoutRecord> for Layout {
             percentiles: r.percentiles,
             trajectories: r.trajectories,
             rock_ends: r.rock_ends,
+            screen_crossings: r.screen_crossings,
+            elevation: Elevation::default(),
         }
     }
 }
@@ -335,6 +342,54 @@ fn body(e: &mut Enc, t: &Tally) {
     for r in records {
         rock_record(e, r);
     }
+    let mut crossings: Vec<_> = t.crossing_records.iter().collect();
+    crossings.sort_unstable_by_key(|c| (c.rock_id, c.seq));
+    e.len(crossings.len());
+    for c in crossings {
+        crossing_record(e, c);
+    }
+}
+
+fn crossing_record(e: &mut Enc, c: &CrossingRecord) {
+    e.u64(c.rock_id);
+    e.len(c.screen);
+    e.u32(c.seq);
+    let x = &c.crossing;
+    for v in [
+        x.velocity_ms,
+        x.energy_j,
+        x.jump_height_m,
+        x.x_m,
+        x.y_m,
+        c.mass_kg,
+    ] {
+        e.f64(v);
+    }
+}
+
+fn read_crossing_record(d: &mut Dec<'_>, screens: usize) -> Result<CrossingRecord, DecodeError> {
+    let rock_id = d.u64()?;
+    let at = d.pos();
+    let screen = d.u64()? as usize;
+    if screen >= screens {
+        return Err(d.corrupt(at, format!("crossing of screen {screen} of {screens}")));
+    }
+    let seq = d.u32()?;
+    let [velocity_ms, energy_j, jump_height_m, x_m, y_m, mass_kg] =
+        [d.f64()?, d.f64()?, d.f64()?, d.f64()?, d.f64()?, d.f64()?];
+    Ok(CrossingRecord {
+        rock_id,
+        screen,
+        seq,
+        crossing: ScreenCrossing {
+            velocity_ms,
+            energy_j,
+            jump_height_m,
+            x_m,
+            y_m,
+        },
+        mass_kg,
+    })
 }
 
 fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeError> {
@@ -408,6 +463,12 @@ fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeError> {
     for _ in 0..n {
         t.rock_records.push(read_rock_record(d)?);
     }
+    let n = d.len(60)?;
+    t.crossing_records.reserve(n);
+    for _ in 0..n {
+        let screens = t.screens.len();
+        t.crossing_records.push(read_crossing_record(d, screens)?);
+    }
     Ok(())
 }
 
@@ -425,7 +486,14 @@ fn cell(e: &mut Enc, c: &CellStats) {
     e.f64(c.tree_height_max_m);
     e.u128(c.energy_sum);
     e.u128(c.height_sum);
-    for v in [c.energy_max_j, c.height_max_m, c.velocity_max_ms] {
+    e.u128(c.energy_sq_sum);
+    e.u128(c.height_sq_sum);
+    for v in [
+        c.energy_max_j,
+        c.height_max_m,
+        c.velocity_max_ms,
+        c.el_angle_max_deg,
+    ] {
         e.f64(v);
     }
     match &c.hists {
@@ -458,10 +526,13 @@ fn read_cell(d: &mut Dec<'_>) -> Result<CellStats, DecodeError> {
     c.tree_height_max_m = d.f64()?;
     c.energy_sum = d.u128()?;
     c.height_sum = d.u128()?;
+    c.energy_sq_sum = d.u128()?;
+    c.height_sq_sum = d.u128()?;
     for v in [
         &mut c.energy_max_j,
         &mut c.height_max_m,
         &mut c.velocity_max_ms,
+        &mut c.el_angle_max_deg,
     ] {
         *v = d.f64()?;
     }
@@ -517,6 +588,8 @@ fn rock_record(e: &mut Enc, r: &RockRecord) {
     for v in r.start_m {
         e.f64(v);
     }
+    e.f64(r.volume_m3);
+    e.f64(r.mass_kg);
     let end = &r.end;
     let (kind, cell) = match end.outcome {
         Outcome::Stopped { cell } => (0, cell),
@@ -546,6 +619,7 @@ fn read_rock_record(d: &mut Dec<'_>) -> Result<RockRecord, DecodeError> {
     let rock_id = d.u64()?;
     let source_cell = d.u64()? as usize;
     let start_m = [d.f64()?, d.f64()?, d.f64()?];
+    let (volume_m3, mass_kg) = (d.f64()?, d.f64()?);
     let at = d.pos();
     let kind = d.u8()?;
     let cell = d.u64()? as usize;
@@ -570,6 +644,8 @@ fn read_rock_record(d: &mut Dec<'_>) -> Result<RockRecord, DecodeError> {
         rock_id,
         source_cell,
         start_m,
+        volume_m3,
+        mass_kg,
         end: RockEnd {
             outcome,
             x_m,

@@ -172,6 +172,8 @@ mod tests {
             percentiles: Vec::new(),
             trajectories: 0,
             rock_ends: false,
+            screen_crossings: false,
+            elevation: Default::default(),
         }
     }
 

@@ -4,7 +4,7 @@ use rockfall_raster::{Crs, Grid, GridGeometry, RasterView, Rows, SampleType};
 
 use crate::cells::CellStats;
 use crate::convergence::ConvergenceSummary;
-use crate::{Layout, Parameters, RockRecord, Tally, TrajectoryRow};
+use crate::{CrossingRecord, Layout, Parameters, RockRecord, Tally, TrajectoryRow};
 
 /// Nodata marker written into the float rasters.
 pub(crate) const NODATA: f64 = -9999.0;
@@ -38,10 +38,27 @@ pub(crate) enum Kind {
     HeightMean,
     /// A percentile (0–100) of the passing heights of the cell's visits.
     HeightPercentile(f64),
+    /// Mean + [`Z_95`] sample standard deviations of the visit energies (`E_95CI`).
+    EnergyCi95,
+    /// Mean + [`Z_95`] sample standard deviations of the passing heights (`Ph_95CI`).
+    HeightCi95,
+    /// Largest energy-line angle of the visits (`EL_angles`).
+    EnergyLineAngle,
     VelocityMax,
     TreeImpacts,
     TreeHeightMax,
     StemsBroken,
+}
+
+/// The one-sided 95 % quantile of the standard normal distribution: `E_95CI` and `Ph_95CI`
+/// are the mean plus this many standard deviations, the value below which 95 % of the visits
+/// lie if they are normally distributed (see the README, "Rockyfor3D output parity").
+pub(crate) const Z_95: f64 = 1.644_853_626_951_472_2;
+
+/// Mean + [`Z_95`] standard deviations; the mean alone for a single value (no spread
+/// measured).
+fn ci95(mean: Option<f64>, sd: Option<f64>) -> Option<f64> {
+    Some(mean? + Z_95 * sd.unwrap_or(0.0))
 }
 
 impl Kind {
@@ -71,6 +88,9 @@ pub struct Results {
     pub(crate) rows: Vec<TrajectoryRow>,
     /// One record per rock, sorted by rock id (empty unless `layout.rock_ends`).
     pub(crate) rock_records: Vec<RockRecord>,
+    /// One record per screen crossing, sorted by (rock id, sequence) (empty unless
+    /// `layout.screen_crossings`).
+    pub(crate) crossing_records: Vec<CrossingRecord>,
     /// How a convergence-driven run ended (`summary.json` `convergence`).
     pub(crate) convergence: Option<ConvergenceSummary>,
 }
@@ -89,12 +109,15 @@ impl Results {
         rows.sort_by_key(|&(rock, seq, _)| (rock, seq));
         let mut rock_records = std::mem::take(&mut tally.rock_records);
         rock_records.sort_by_key(|r| r.rock_id);
+        let mut crossing_records = std::mem::take(&mut tally.crossing_records);
+        crossing_records.sort_by_key(|c| (c.rock_id, c.seq));
         Results {
             layout: layout.clone(),
             tally,
             info,
             rows: rows.into_iter().map(|(_, _, r)| r).collect(),
             rock_records,
+            crossing_records,
             convergence: None,
         }
     }
@@ -126,6 +149,12 @@ impl Results {
         &self.rock_records
     }
 
+    /// One record per screen crossing, sorted by rock id and then in the order the rock
+    /// crossed; empty unless the layout kept them ([`Layout::screen_crossings`]).
+    pub fn crossing_records(&self) -> &[CrossingRecord] {
+        &self.crossing_records
+    }
+
     /// The energy percentiles written as `E_<p>` rasters: the layout's valid ones (0 ..= 100)
     /// and 95, ascending, without duplicates.
     pub(crate) fn energy_percentiles(&self) -> Vec<f64> {
@@ -155,6 +184,9 @@ impl Results {
             ("Ph_50".into(), Kind::HeightPercentile(50.0)),
             ("Ph_90".into(), Kind::HeightPercentile(90.0)),
             ("Ph_95".into(), Kind::HeightPercentile(95.0)),
+            ("E_95CI".into(), Kind::EnergyCi95),
+            ("Ph_95CI".into(), Kind::HeightCi95),
+            ("EL_angles".into(), Kind::EnergyLineAngle),
             ("V_max".into(), Kind::VelocityMax),
             ("Nr_tree_impacts".into(), Kind::TreeImpacts),
             ("Tree_impact_height_max".into(), Kind::TreeHeightMax),
@@ -165,8 +197,8 @@ impl Results {
 
     /// Names of every raster, in writing order: `Nr_passages`, `Reach_probability`,
     /// `Nr_deposited`, `Nr_sourcecells`, `E_mean`, `E_<p>` (ascending, `E_95` always),
-    /// `Ph_mean`, `Ph_50`, `Ph_90`, `Ph_95`, `V_max`, `Nr_tree_impacts`, `Tree_impact_height_max`,
-    /// `Nr_stems_broken`.
+    /// `Ph_mean`, `Ph_50`, `Ph_90`, `Ph_95`, `E_95CI`, `Ph_95CI`, `EL_angles`, `V_max`,
+    /// `Nr_tree_impacts`, `Tree_impact_height_max`, `Nr_stems_broken`.
     pub fn raster_names(&self) -> Vec<String> {
         self.kinds().into_iter().map(|(n, _)| n).collect()
     }
@@ -177,7 +209,11 @@ impl Results {
     /// Units: `Reach_probability` % of the rocks; `E_mean`, `E_<p>` kJ (over visits);
     /// `Ph_mean`, `Ph_50`, `Ph_90`, `Ph_95` (percentiles of the passing heights of the cell's
     /// visits, as Rockyfor3D's `Ph_95` and its median and 90 % companions),
-    /// `Tree_impact_height_max` m; `V_max` m/s; the others are counts
+    /// `Tree_impact_height_max` m; `E_95CI` kJ and `Ph_95CI` m: mean + 1.645 sample standard
+    /// deviations of the cell's visits (the mean for a single visit); `EL_angles` degrees:
+    /// the largest energy-line angle of a visit, from the DEM surface at the centre of the
+    /// rock's release cell to the centre of the cell (none within half a cell of the release
+    /// point); `V_max` m/s; the others are counts
     /// (0 where nothing happened). The non-count rasters are nodata where no rock passed (no
     /// tree was hit, for `Tree_impact_height_max`). Percentiles come from log histograms:
     /// within 7.5 % of the exact nearest-rank value (see [`crate::PERCENTILE_RELATIVE_ERROR`]).
@@ -225,6 +261,15 @@ impl Results {
             Kind::EnergyPercentile(p) => visited?.energy_percentile_j(p).map(|e| e / 1e3),
             Kind::HeightMean => visited?.height_mean_m(),
             Kind::HeightPercentile(p) => visited?.height_percentile_m(p),
+            Kind::EnergyCi95 => {
+                let c = visited?;
+                ci95(c.energy_mean_j(), c.energy_sd_j()).map(|e| e / 1e3)
+            }
+            Kind::HeightCi95 => {
+                let c = visited?;
+                ci95(c.height_mean_m(), c.height_sd_m())
+            }
+            Kind::EnergyLineAngle => Some(visited?.el_angle_max_deg).filter(|a| !a.is_nan()),
             Kind::VelocityMax => visited.map(|c| c.velocity_max_ms),
             Kind::TreeImpacts => Some(c.map_or(0, |c| c.tree_impacts) as f64),
             Kind::TreeHeightMax => c

@@ -7,7 +7,8 @@ use crate::hist::{LENGTH_SCALE, LONG_AXIS, SHORT_AXIS, Stat};
 use crate::profile::SpeedProfile;
 use crate::screens::ScreenStats;
 use crate::{
-    CellVisit, Layout, Outcome, RockEnd, RockRecord, RockStart, ScreenCrossing, TrajectoryRow,
+    CellVisit, CrossingRecord, Layout, Outcome, RockEnd, RockRecord, RockStart, ScreenCrossing,
+    TrajectoryRow,
 };
 
 /// The rock being simulated.
@@ -20,6 +21,10 @@ struct Current {
     records: bool,
     /// Rows recorded for this rock so far.
     seq: u64,
+    /// Screen crossings kept for this rock so far.
+    crossings: u32,
+    /// DEM height at the centre of the release cell, m (NaN without a DEM).
+    source_z_m: f64,
     /// Where it started (for its [`RockRecord`]).
     start: RockStart,
 }
@@ -97,6 +102,24 @@ impl RockStats {
     }
 }
 
+/// Energy-line angle of a visit, degrees: the angle above the horizontal of the straight line
+/// from the DEM surface at the centre of the rock's release cell (height `source_z_m`, m) to
+/// the DEM surface at the centre of the visited cell (`cell_z_m`, m), `distance_m` (m)
+/// apart in plan view — the "Fahrböschung" or energy-line angle of Heim (1932) and of the
+/// cone method (Jaboyedoff & Labiouse 2011), which Rockyfor3D's `EL_angles` maps. `None`
+/// within half a cell of the release point (the angle of a rock that has not left its cell
+/// says nothing), without a DEM or at nodata.
+fn energy_line_angle_deg(
+    source_z_m: f64,
+    cell_z_m: Option<f64>,
+    distance_m: f64,
+    cell_size_m: f64,
+) -> Option<f64> {
+    let drop_m = source_z_m - cell_z_m?;
+    (drop_m.is_finite() && distance_m >= 0.5 * cell_size_m)
+        .then(|| drop_m.atan2(distance_m).to_degrees())
+}
+
 /// What one worker thread accumulates: bounded-memory statistics of the rocks it simulated
 /// (per cell, per screen, per rock), the recorded trajectory rows and, when
 /// [`Layout::rock_ends`], one [`RockRecord`] per rock.
@@ -125,6 +148,8 @@ pub struct Tally {
     pub(crate) rows: Vec<(u64, u64, TrajectoryRow)>,
     /// One record per ended rock, in the order they ended (only when `layout.rock_ends`).
     pub(crate) rock_records: Vec<RockRecord>,
+    /// One record per screen crossing (only when `layout.screen_crossings`).
+    pub(crate) crossing_records: Vec<CrossingRecord>,
 }
 
 impl Tally {
@@ -138,6 +163,7 @@ impl Tally {
             current: None,
             rows: Vec::new(),
             rock_records: Vec::new(),
+            crossing_records: Vec::new(),
             layout,
         }
     }
@@ -156,6 +182,12 @@ impl Tally {
             source: u32::try_from(start.source_cell).unwrap_or(u32::MAX),
             records: start.rock_id < self.layout.trajectories,
             seq: 0,
+            crossings: 0,
+            source_z_m: self
+                .layout
+                .elevation
+                .at(start.source_cell)
+                .unwrap_or(f64::NAN),
             start,
         });
     }
@@ -185,12 +217,18 @@ impl Tally {
     /// there. Report every cell the rock is in, the release and the final cell included.
     pub fn cell_visit(&mut self, cell: usize, visit: CellVisit) {
         if let Some(c) = self.active() {
-            self.cells.visit(cell, c.key, c.source, &visit);
             let g = &self.layout.geometry;
             let (row, col) = g.row_col(cell);
             let (x, y) = g.cell_center(row, col);
             let (dx, dy) = (x - c.start.x_m, y - c.start.y_m);
             let distance_m = (dx * dx + dy * dy).sqrt();
+            let angle = energy_line_angle_deg(
+                c.source_z_m,
+                self.layout.elevation.at(cell),
+                distance_m,
+                g.cell_size_m,
+            );
+            self.cells.visit(cell, c.key, c.source, &visit, angle);
             self.profile.add(distance_m, visit.velocity_ms);
         }
     }
@@ -209,6 +247,18 @@ impl Tally {
             && let Some(s) = self.screens.get_mut(screen)
         {
             s.add(c.key, &crossing);
+            if self.layout.screen_crossings {
+                self.crossing_records.push(CrossingRecord {
+                    rock_id: c.rock_id,
+                    screen,
+                    seq: c.crossings,
+                    crossing,
+                    mass_kg: c.start.mass_kg,
+                });
+                if let Some(cur) = self.current.as_mut() {
+                    cur.crossings += 1;
+                }
+            }
         }
     }
 
@@ -224,6 +274,8 @@ impl Tally {
                 rock_id: s.rock_id,
                 source_cell: s.source_cell,
                 start_m: [s.x_m, s.y_m, s.z_m],
+                volume_m3: s.volume_m3,
+                mass_kg: s.mass_kg,
                 end,
             });
         }
@@ -253,6 +305,7 @@ impl Tally {
         self.profile.merge(&other.profile);
         self.rows.extend(other.rows);
         self.rock_records.extend(other.rock_records);
+        self.crossing_records.extend(other.crossing_records);
     }
 
     /// Rocks ended so far.

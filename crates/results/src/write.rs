@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use rockfall_raster::{RasterError, Rows, SampleType, atomic, write_rows};
 use serde::Serialize;
 
-use crate::{Results, RockRecord, TrajectoryRow};
+use crate::{CrossingRecord, Results, RockRecord, TrajectoryRow};
 
 /// Header of `trajectories.csv` (a contract, see `product.md`).
 pub const TRAJECTORY_HEADER: &str =
@@ -14,7 +14,12 @@ pub const TRAJECTORY_HEADER: &str =
 
 /// Header of `rocks.csv`: one row per rock, written when [`crate::Layout::rock_ends`].
 pub const ROCKS_HEADER: &str = "rock_id,source_cell,x0_m,y0_m,z0_m,outcome,x_m,y_m,runout_m,\
-max_velocity_ms,max_jump_height_m,tree_impacts,stems_broken,rebounds,time_s";
+max_velocity_ms,max_jump_height_m,tree_impacts,stems_broken,rebounds,time_s,volume_m3,mass_kg";
+
+/// Header of `screen_crossings.csv`: one row per crossing of a screen, energy in kJ, the
+/// passing height (vertical, of the rock centre above the ground) in m.
+pub const CROSSINGS_HEADER: &str =
+    "rock_id,screen,x_m,y_m,velocity_ms,energy_kj,passing_height_m,mass_kg";
 
 /// What can go wrong writing results. Every variant names the file or folder.
 #[derive(Debug, thiserror::Error)]
@@ -133,7 +138,7 @@ pub(crate) fn write_rocks(path: &Path, records: &[RockRecord]) -> Result<(), Res
         let e = &r.end;
         writeln!(
             w,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.rock_id,
             r.source_cell,
             x0,
@@ -148,9 +153,45 @@ pub(crate) fn write_rocks(path: &Path, records: &[RockRecord]) -> Result<(), Res
             e.tree_impacts,
             e.stems_broken,
             e.rebounds,
-            e.time_s
+            e.time_s,
+            r.volume_m3,
+            r.mass_kg
         )
     })
+}
+
+/// Writes `screen_crossings.csv`: the header [`CROSSINGS_HEADER`], then one line per record,
+/// the screen by name; numbers in the shortest form that reads back to the same `f64`.
+pub(crate) fn write_crossings(
+    path: &Path,
+    records: &[CrossingRecord],
+    screens: &[rockfall_scenario::Screen],
+) -> Result<(), ResultsError> {
+    write_csv(path, CROSSINGS_HEADER, records, |w, r| {
+        let c = &r.crossing;
+        let name = screens.get(r.screen).map_or("", |s| s.name.as_str());
+        writeln!(
+            w,
+            "{},{},{},{},{},{},{},{}",
+            r.rock_id,
+            csv_field(name),
+            c.x_m,
+            c.y_m,
+            c.velocity_ms,
+            c.energy_j / 1e3,
+            c.jump_height_m,
+            r.mass_kg
+        )
+    })
+}
+
+/// `s` as a CSV field: quoted (quotes doubled) when it holds a comma, a quote or a line break.
+fn csv_field(s: &str) -> std::borrow::Cow<'_, str> {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\"")).into()
+    } else {
+        s.into()
+    }
 }
 
 impl Results {
@@ -185,6 +226,11 @@ impl Results {
             let rocks = out_dir.join("rocks.csv");
             write_rocks(&rocks, &self.rock_records)?;
             written.push(rocks);
+        }
+        if self.layout.screen_crossings {
+            let path = out_dir.join("screen_crossings.csv");
+            write_crossings(&path, &self.crossing_records, &self.layout.screens)?;
+            written.push(path);
         }
         Ok(written)
     }

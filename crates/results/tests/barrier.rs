@@ -27,6 +27,8 @@ fn rock(t: &mut Tally, id: u64, crossings: &[(f64, f64)]) {
         x_m: 0.0,
         y_m: 0.0,
         z_m: 0.0,
+        volume_m3: 1.0 + id as f64 / 8.0,
+        mass_kg: 2700.0 * (1.0 + id as f64 / 8.0),
     });
     for &(energy_j, jump_height_m) in crossings {
         for screen in 0..2 {
@@ -34,6 +36,8 @@ fn rock(t: &mut Tally, id: u64, crossings: &[(f64, f64)]) {
                 velocity_ms: 1.0,
                 energy_j,
                 jump_height_m,
+                x_m: 10.0 + id as f64,
+                y_m: 20.0 + screen as f64,
             };
             t.screen_crossing(screen, c);
         }
@@ -117,4 +121,73 @@ fn the_counts_merge_exactly_and_survive_a_tally_file() {
         serde_json::to_value(summary(back.tally)).unwrap(),
         serde_json::to_value(&expected).unwrap()
     );
+}
+
+/// `[output] screen_crossings`: one record per crossing with the rock's own mass, kept
+/// through merges and tally files in (rock, sequence) order, written as
+/// `screen_crossings.csv` with the screen's name and the energy in kJ.
+#[test]
+fn crossing_records_are_kept_merged_and_written_one_row_per_crossing() {
+    let mut l = (*layout()).clone();
+    l.screen_crossings = true;
+    let l = Arc::new(l);
+    let (mut a, mut b) = (Tally::new(l.clone()), Tally::new(l.clone()));
+    // rock 2 in the second tally, rocks 0 and 1 in the first: the merge order is not the
+    // rock order
+    rock(&mut b, 2, &[(9e3, 0.1), (12e3, 0.3)]);
+    rock(&mut a, 0, &[(4e3, 0.2)]);
+    rock(&mut a, 1, &[(6e3, 0.7)]);
+    b.merge(a);
+    let bytes = rockfall_results::encode_tally(&b, &RunInfo::default(), &()).unwrap();
+    let back: rockfall_results::SavedTally<()> =
+        rockfall_results::decode_tally(&bytes, std::path::Path::new("t.tally")).unwrap();
+    let r = Results::new(&l, back.tally, RunInfo::default());
+    let keys: Vec<(u64, usize, u32)> = (r.crossing_records().iter())
+        .map(|c| (c.rock_id, c.screen, c.seq))
+        .collect();
+    assert_eq!(
+        keys,
+        [
+            (0, 0, 0),
+            (0, 1, 1),
+            (1, 0, 0),
+            (1, 1, 1),
+            (2, 0, 0),
+            (2, 1, 1),
+            (2, 0, 2),
+            (2, 1, 3)
+        ]
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let written = r.write(dir.path(), false).unwrap();
+    let path = dir.path().join("screen_crossings.csv");
+    assert!(written.contains(&path));
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], rockfall_results::CROSSINGS_HEADER);
+    assert_eq!(lines.len(), 9, "{text}");
+    let name0 = &l.screens[0].name;
+    let name1 = &l.screens[1].name;
+    assert_eq!(lines[1], format!("0,{name0},10,20,1,4,0.2,2700"));
+    assert_eq!(lines[4], format!("1,{name1},11,21,1,6,0.7,3037.5"));
+    assert_eq!(lines[7], format!("2,{name0},12,20,1,12,0.3,3375"));
+}
+
+#[test]
+fn no_screen_crossings_file_without_the_option() {
+    let l = layout();
+    let mut t = Tally::new(l.clone());
+    rock(&mut t, 0, &[(4e3, 0.2)]);
+    let r = Results::new(&l, t, RunInfo::default());
+    assert!(r.crossing_records().is_empty());
+    let dir = tempfile::tempdir().unwrap();
+    r.write(dir.path(), false).unwrap();
+    assert!(!dir.path().join("screen_crossings.csv").exists());
+}
+
+/// The memory per kept crossing documented in `[output] screen_crossings`.
+#[cfg(target_pointer_width = "64")]
+#[test]
+fn a_crossing_record_is_72_bytes() {
+    assert_eq!(std::mem::size_of::<rockfall_results::CrossingRecord>(), 72);
 }

@@ -81,6 +81,8 @@ fn the_speed_profile_holds_every_visit_at_its_distance_from_release() {
             x_m: 1001.0, // the centre of cell (row 4, col 0)
             y_m: 5001.0,
             z_m: 10.0,
+            volume_m3: 1.0,
+            mass_kg: 2700.0,
         });
         // Cells along the southern row: centres 0, 2, 4, 6 m east of the start.
         for col in 0..4 {

@@ -19,6 +19,8 @@ fn start(rock_id: u64, source_cell: usize) -> RockStart {
         x_m: 0.0,
         y_m: 0.0,
         z_m: 0.0,
+        volume_m3: 1.0,
+        mass_kg: 2700.0,
     }
 }
 
@@ -63,6 +65,8 @@ fn reach_probability_sourcecells_and_nodata_on_a_hand_made_case() {
             velocity_ms: 3.0,
             energy_j: 2000.0,
             jump_height_m: 0.3,
+            x_m: 0.0,
+            y_m: 0.0,
         },
     );
     t.screen_crossing(
@@ -71,6 +75,8 @@ fn reach_probability_sourcecells_and_nodata_on_a_hand_made_case() {
             velocity_ms: 5.0,
             energy_j: 6000.0,
             jump_height_m: 0.9,
+            x_m: 0.0,
+            y_m: 0.0,
         },
     );
     t.end_rock(end(Outcome::Stopped { cell: 13 }));
@@ -150,6 +156,9 @@ fn reach_probability_sourcecells_and_nodata_on_a_hand_made_case() {
             "Ph_50",
             "Ph_90",
             "Ph_95",
+            "E_95CI",
+            "Ph_95CI",
+            "EL_angles",
             "V_max",
             "Nr_tree_impacts",
             "Tree_impact_height_max",

@@ -113,6 +113,8 @@ fn start_and_end_land_in_their_fields() {
             x_m: 1001.0 + id as f64,
             y_m: 5009.0 - id as f64,
             z_m: 100.0 + 0.5 * id as f64,
+            volume_m3: 0.5 + 0.25 * id as f64,
+            mass_kg: 2650.0 * (0.5 + 0.25 * id as f64),
         });
         t.end_rock(e);
     }
@@ -124,12 +126,16 @@ fn start_and_end_land_in_their_fields() {
                 rock_id: 4,
                 source_cell: 6,
                 start_m: [1005.0, 5005.0, 102.0],
+                volume_m3: 1.5,
+                mass_kg: 3975.0,
                 end: ends[1].1,
             },
             RockRecord {
                 rock_id: 9,
                 source_cell: 11,
                 start_m: [1010.0, 5000.0, 104.5],
+                volume_m3: 2.75,
+                mass_kg: 7287.5,
                 end: ends[0].1,
             },
         ]
@@ -146,11 +152,11 @@ fn start_and_end_land_in_their_fields() {
         lines,
         [
             ROCKS_HEADER,
-            "4,6,1005,5005,102,stopped,1003.5,5002.25,7.125,11.5,0.75,2,1,5,4.5",
-            "9,11,1010,5000,104.5,net_stopped,1004.5,5003.25,8.125,12.5,1.75,3,2,6,5.5",
+            "4,6,1005,5005,102,stopped,1003.5,5002.25,7.125,11.5,0.75,2,1,5,4.5,1.5,3975",
+            "9,11,1010,5000,104.5,net_stopped,1004.5,5003.25,8.125,12.5,1.75,3,2,6,5.5,2.75,7287.5",
         ]
     );
-    assert_eq!(ROCKS_HEADER.split(',').count(), 15);
+    assert_eq!(ROCKS_HEADER.split(',').count(), 17);
 }
 
 #[test]
@@ -185,6 +191,6 @@ fn outcome_names_are_stable() {
 /// The memory per kept rock documented in `Layout::rock_ends` and `[output] rocks_csv`.
 #[cfg(target_pointer_width = "64")]
 #[test]
-fn a_record_is_120_bytes() {
-    assert_eq!(std::mem::size_of::<RockRecord>(), 120);
+fn a_record_is_136_bytes() {
+    assert_eq!(std::mem::size_of::<RockRecord>(), 136);
 }

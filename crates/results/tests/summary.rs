@@ -302,6 +302,8 @@ fn hand_rock(t: &mut Tally, rock_id: u64, cells: &[usize], tree_cell: usize, out
         x_m: 1001.0,
         y_m: 5009.0,
         z_m: 100.0,
+        volume_m3: 1.0,
+        mass_kg: 2700.0,
     });
     for &cell in cells {
         let visit = CellVisit {

@@ -250,7 +250,12 @@ impl Engine for RigidModel<'_> {
             rock_id: rock.id,
             ..*launch
         };
-        simulate(&self.world(), &self.body, &launch, rng, tally, scratch);
+        if rock.volume_factor == 1.0 {
+            simulate(&self.world(), &self.body, &launch, rng, tally, scratch);
+        } else {
+            let body = self.body.with_volume_factor(rock.volume_factor);
+            simulate(&self.world(), &body, &launch, rng, tally, scratch);
+        }
     }
 }
 

@@ -193,6 +193,8 @@ pub fn simulate(
         x_m: start.x,
         y_m: start.y,
         z_m: start.z,
+        volume_m3: body.geometry.volume_m3,
+        mass_kg: body.mass_kg,
     });
     let mut state = RockState {
         r_m: start,
@@ -358,6 +360,8 @@ fn screens(world: &World<'_>, body: &RockBody, before: V3, state: &RockState, lo
                     velocity_ms: state.v_ms.length(),
                     energy_j: e_t + e_r,
                     jump_height_m: p.z - zg,
+                    x_m: p.x,
+                    y_m: p.y,
                 },
             );
         });

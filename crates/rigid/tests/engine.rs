@@ -146,6 +146,7 @@ fn block() -> RockSpec {
         dims_m: [Field::Const(0.4), Field::Const(0.3), Field::Const(0.2)],
         volume_m3: None,
         density_kg_m3: Field::Const(2700.0),
+        volume_variation_percent: 0.0,
     }
 }
 

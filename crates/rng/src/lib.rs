@@ -41,6 +41,10 @@ pub enum Purpose {
     /// The impact laboratory's candidate rocks (release, orientation, velocities) and their
     /// order, keyed by candidate number.
     Laboratory,
+    /// Each rock's volume variation (`[rock] volume_variation_percent`), keyed like
+    /// [`Purpose::Rock`]; a stream of its own so that runs without variation stay
+    /// bit-identical to runs made before the option existed.
+    Volume,
 }
 
 impl Purpose {
@@ -51,6 +55,7 @@ impl Purpose {
             Purpose::Rock => 0x524f_434b_0000_0003,
             Purpose::Sampling => 0x5341_4d50_4c45_0004,
             Purpose::Laboratory => 0x4c41_424f_5241_0005,
+            Purpose::Volume => 0x564f_4c55_4d45_0006,
         }
     }
 }

@@ -337,9 +337,12 @@ pub struct OutputSettings {
     pub trajectory_interval_s: f64,
     /// Also write every raster as ESRI ASCII grid (default false: GeoTIFF only).
     pub ascii_rasters: bool,
-    /// Also keep one record per rock and write `rocks.csv` (default false): ≈ 120 bytes of
+    /// Also keep one record per rock and write `rocks.csv` (default false): ≈ 136 bytes of
     /// memory per rock.
     pub rocks_csv: bool,
+    /// Also keep one record per screen crossing and write `screen_crossings.csv` (default
+    /// false): ≈ 72 bytes of memory per crossing.
+    pub screen_crossings: bool,
     /// Percentiles of energy and passing height written as rasters, % (default 50, 90, 95,
     /// 98, 99).
     pub percentiles: Vec<f64>,
@@ -352,6 +355,7 @@ impl Default for OutputSettings {
             trajectory_interval_s: 0.0,
             ascii_rasters: false,
             rocks_csv: false,
+            screen_crossings: false,
             percentiles: vec![50.0, 90.0, 95.0, 98.0, 99.0],
         }
     }

@@ -156,6 +156,10 @@ pub struct RockSpec {
     pub volume_m3: Option<f64>,
     /// Rock density, kg/m³.
     pub density_kg_m3: Field,
+    /// Each rock's volume is drawn uniformly within ± this share of the volume the other keys
+    /// give, %, in [0, 100) (default 0: every rock alike). Rockyfor3D's "additional variation
+    /// of the block volume" (Dorren 2016 §2.5).
+    pub volume_variation_percent: f64,
 }
 
 impl RockSpec {
@@ -170,6 +174,7 @@ impl RockSpec {
             ],
             volume_m3: None,
             density_kg_m3: Field::Const(density_kg_m3),
+            volume_variation_percent: 0.0,
         }
     }
 
@@ -181,6 +186,7 @@ impl RockSpec {
             dims_m: dims.map(Field::Const),
             volume_m3: Some(volume_m3.unwrap_or(SEED_001_VOLUME_M3)),
             density_kg_m3: Field::Const(density_kg_m3),
+            volume_variation_percent: 0.0,
         })
     }
 

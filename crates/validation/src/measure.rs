@@ -131,6 +131,8 @@ mod tests {
             rock_id: id,
             source_cell: 0,
             start_m: [0.0; 3],
+            volume_m3: 1.0,
+            mass_kg: 2700.0,
             end: RockEnd {
                 outcome,
                 x_m: 939_425.0,

@@ -39,6 +39,8 @@ pub fn layout() -> Arc<Layout> {
         percentiles: vec![50.0, 99.5, 95.0],
         trajectories: 7,
         rock_ends: false,
+        screen_crossings: false,
+        elevation: Default::default(),
     })
 }
 
@@ -82,6 +84,8 @@ pub fn simulate_rock(tally: &mut Tally, rock_id: u64) {
         x_m: 1001.0,
         y_m: 5009.0,
         z_m: 100.0,
+        volume_m3: 1.0,
+        mass_kg: 2700.0,
     });
     let mut t = 0.0;
     for step in 0..(1 + r.below(12)) {
@@ -109,6 +113,8 @@ pub fn simulate_rock(tally: &mut Tally, rock_id: u64) {
                     velocity_ms: r.log(0.1, 2.0),
                     energy_j: r.log(10.0, 6.0),
                     jump_height_m: r.unit() * 3.0,
+                    x_m: 0.0,
+                    y_m: 0.0,
                 },
             );
         }
