@@ -243,3 +243,50 @@ fn run_writes_a_qgis_project_whose_layers_all_exist() {
         "E_95's renderer differs from E_95.qml"
     );
 }
+
+/// `[nets] screens = true`: every net line is also a screen, `net_<id>`, with the net's
+/// capacity and height as its limits, read like any screen in `summary.json` and
+/// `screen_crossings.csv`; `check` lists it.
+#[test]
+fn nets_as_screens_carry_the_nets_limits() {
+    let (dir, scenario) = site(|s| {
+        s.replace(
+            "lines = \"nets.geojson\"",
+            "lines = \"nets.geojson\"\nscreens = true",
+        )
+        .replace("rocks_per_cell = 4", "rocks_per_cell = 40")
+            + "\n[output]\nscreen_crossings = true\n"
+    });
+    let run_dir = dir.path().join("out");
+    ok(rockfall(&["run", s(&scenario), "--out", s(&run_dir)]));
+    let summary = json(&run_dir.join("summary.json"));
+    let screens = summary["screens"].as_array().unwrap();
+    let names: Vec<&str> = screens
+        .iter()
+        .map(|x| x["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["net_1", "net_2"]);
+    assert_eq!(screens[0]["capacity_kj"], 1000.0);
+    assert_eq!(screens[0]["height_m"], 4.0);
+    assert_eq!(screens[1]["capacity_kj"], 3000.0);
+    let crossings: u64 = screens
+        .iter()
+        .map(|x| x["crossings"].as_u64().unwrap())
+        .sum();
+    assert!(crossings > 0, "{summary}");
+    let csv = std::fs::read_to_string(run_dir.join("screen_crossings.csv")).unwrap();
+    assert_eq!(csv.lines().count() as u64, crossings + 1, "{csv}");
+    assert!(
+        csv.lines()
+            .skip(1)
+            .all(|l| l.contains(",net_1,") || l.contains(",net_2,"))
+    );
+    // every rock a net stopped was seen by its screen
+    let stopped = summary["outcomes"]["net_stopped"].as_u64().unwrap();
+    let rocks_seen: std::collections::BTreeSet<&str> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap())
+        .collect();
+    assert!(rocks_seen.len() as u64 >= stopped);
+}

@@ -15,6 +15,7 @@
 //! or the key. Nothing here panics on bad input.
 
 mod error;
+mod nets;
 pub mod rockyfor;
 pub mod scenario_file;
 mod schema;

@@ -158,16 +158,19 @@ impl Resolver {
         let rock = self.rock(f.rock)?;
         let release = self.release(f.release, &terrain)?;
         let forest = f.forest.map(|s| self.forest(s)).transpose()?;
-        let nets = f.nets.map(|n| self.nets(n)).transpose()?;
-        let screens = f
-            .screens
-            .into_iter()
+        let (nets, net_screens) = match f.nets.map(|n| self.nets(n)).transpose()? {
+            Some((nets, screens)) => (Some(nets), screens),
+            None => (None, Vec::new()),
+        };
+        let screens = (f.screens.into_iter())
             .map(|s| Screen {
                 name: s.name,
                 points_m: s.points_m,
                 capacity_kj: s.capacity_kj,
                 height_m: s.height_m,
+                net: None,
             })
+            .chain(net_screens)
             .collect();
         let lumped = self.lumped(f.lumped)?;
         let rigid = rigid(f.rigid);
@@ -437,7 +440,9 @@ impl Resolver {
         })))
     }
 
-    fn nets(&mut self, n: schema::NetsSec) -> Result<Nets, InputError> {
+    /// The nets and, with `screens = true`, one screen per net.
+    fn nets(&mut self, n: schema::NetsSec) -> Result<(Nets, Vec<Screen>), InputError> {
+        let with_screens = n.screens.unwrap_or(false);
         match (n.lines, n.number, n.energy_kj, n.height_m) {
             (Some(r), None, None, None) => {
                 let (p, layer) = Self::layer_ref(r).map_err(|p| {
@@ -456,17 +461,29 @@ impl Resolver {
                     self.sources.insert(key.into(), self.path(&p));
                 }
                 let [number, energy_kj, height_m] = inputs::net_grids(&lines, &frame);
-                Ok(Nets {
+                let screens = match with_screens {
+                    true => crate::nets::line_screens(&lines),
+                    false => Vec::new(),
+                };
+                let nets = Nets {
                     number: Field::Grid(number),
                     energy_kj: Field::Grid(energy_kj),
                     height_m: Field::Grid(height_m),
-                })
+                };
+                Ok((nets, screens))
             }
-            (None, Some(number), Some(energy_kj), Some(height_m)) => Ok(Nets {
-                number: self.field("net_number", Some(number), 0.0)?,
-                energy_kj: self.field("net_energy", Some(energy_kj), 0.0)?,
-                height_m: self.field("net_height", Some(height_m), 0.0)?,
-            }),
+            (None, Some(number), Some(energy_kj), Some(height_m)) => {
+                let nets = Nets {
+                    number: self.field("net_number", Some(number), 0.0)?,
+                    energy_kj: self.field("net_energy", Some(energy_kj), 0.0)?,
+                    height_m: self.field("net_height", Some(height_m), 0.0)?,
+                };
+                let screens = match with_screens {
+                    true => crate::nets::raster_screens(&nets),
+                    false => Vec::new(),
+                };
+                Ok((nets, screens))
+            }
             _ => Err(self.invalid(
                 "nets",
                 "give either `lines` (a line layer) or all of `number`, `energy_kj` and `height_m`",

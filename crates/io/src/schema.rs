@@ -132,6 +132,7 @@ pub struct ForestSec {
 #[serde(deny_unknown_fields)]
 pub struct NetsSec {
     pub lines: Option<LayerRef>,
+    pub screens: Option<bool>,
     pub number: Option<Param>,
     pub energy_kj: Option<Param>,
     pub height_m: Option<Param>,

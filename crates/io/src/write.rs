@@ -47,6 +47,7 @@ pub fn fits_rockyfor3d(s: &Scenario) -> bool {
         && matches!(s.rock.shape, RockShape::Block(_) | RockShape::PerCell(_))
         && s.rock.volume_m3.is_none()
         && s.rock.volume_variation_percent == 0.0
+        && s.screens.iter().all(|sc| sc.net.is_none())
 }
 
 struct Writer {
@@ -239,8 +240,13 @@ impl Writer {
             t += &self.param("number", "net_number.asc", &n.number)?;
             t += &self.param("energy_kj", "net_energy.asc", &n.energy_kj)?;
             t += &self.param("height_m", "net_height.asc", &n.height_m)?;
+            if s.screens.iter().any(|sc| sc.net.is_some()) {
+                t += "screens = true\n";
+            }
         }
-        for sc in &s.screens {
+        // nets' screens come back from `[nets] screens` (without their lines: the nets are
+        // written as rasters)
+        for sc in s.screens.iter().filter(|sc| sc.net.is_none()) {
             let pts: Vec<String> = sc.points_m.iter().map(|p| arr(p)).collect();
             let _ = write!(
                 t,

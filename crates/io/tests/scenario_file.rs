@@ -559,6 +559,7 @@ fn written_names_are_quoted_as_toml_strings() {
         points_m: vec![[5.0, 20.0], [55.0, 20.0]],
         capacity_kj: None,
         height_m: None,
+        net: None,
     });
     let dir = tempfile::tempdir().unwrap();
     rockfall_io::write::write_scenario_dir(&s, dir.path()).unwrap();

@@ -22,8 +22,8 @@ pub struct CellParams {
     pub moh_m: [f64; 3],
     /// Cover-weighted mean obstacle height, m (seed 000 eq. 4).
     pub moh_mean_m: f64,
-    /// Number of nets in the cell (0: none).
-    pub nets: u8,
+    /// Id of the net standing in the cell (`net_number`; 0: none).
+    pub net_id: u32,
     /// Energy one net absorbs, J.
     pub net_energy_j: f64,
     /// Net height above the ground, m.
@@ -36,7 +36,7 @@ impl CellParams {
         r_n: 0.0,
         moh_m: [0.0; 3],
         moh_mean_m: 0.0,
-        nets: 0,
+        net_id: 0,
         net_energy_j: 0.0,
         net_height_m: 0.0,
     };
@@ -49,7 +49,7 @@ impl CellParams {
             self.moh_m[1].to_bits(),
             self.moh_m[2].to_bits(),
             self.moh_mean_m.to_bits(),
-            u64::from(self.nets),
+            u64::from(self.net_id),
             self.net_energy_j.to_bits(),
             self.net_height_m.to_bits(),
         ]
@@ -176,7 +176,7 @@ fn cell_params(
         .surface
         .cell(row, col)
         .ok_or(LumpedError::MissingSurface { row, col })?;
-    let (count, energy_kj, height_m) = match nets {
+    let (id, energy_kj, height_m) = match nets {
         Some(n) => (
             n.number.at(row, col).unwrap_or(0.0),
             n.energy_kj.at(row, col).unwrap_or(0.0),
@@ -188,7 +188,8 @@ fn cell_params(
         r_n: s.r_n,
         moh_m: [s.rg70_m, s.rg20_m, s.rg10_m],
         moh_mean_m: s.mean_obstacle_height_m(),
-        nets: count.clamp(0.0, 255.0).round() as u8,
+        // validated: a whole number in 0 ..= u32::MAX
+        net_id: id as u32,
         net_energy_j: energy_kj * 1e3,
         net_height_m: height_m,
     })

@@ -57,21 +57,20 @@ impl Rock<'_, '_, '_> {
         None
     }
 
-    /// The rock reaches the nets of `cell` below their height: each net takes its energy
-    /// from the rock or, if the rock has less, stops it.
+    /// The rock reaches the net of `cell` below its height (Rockyfor3D's nets, Dorren 2016
+    /// §2.3): the net takes its energy capacity from the rock or, if the rock has less, stops
+    /// it. Speed and spin scale by √((E − E_net)/E), so the kinetic energy drops by E_net.
     pub(crate) fn net(&mut self, cell: usize) -> Option<Outcome> {
         let c = *self.world.ground.cell(cell);
-        for _ in 0..c.nets {
-            let energy = self.energy_j(self.v);
-            if energy <= c.net_energy_j {
-                self.v = V3::ZERO;
-                self.w = V3::ZERO;
-                return Some(Outcome::NetStopped { cell });
-            }
-            let keep = ((energy - c.net_energy_j) / energy).sqrt();
-            self.v *= keep;
-            self.w *= keep;
+        let energy = self.energy_j(self.v);
+        if energy <= c.net_energy_j {
+            self.v = V3::ZERO;
+            self.w = V3::ZERO;
+            return Some(Outcome::NetStopped { cell });
         }
+        let keep = ((energy - c.net_energy_j) / energy).sqrt();
+        self.v *= keep;
+        self.w *= keep;
         None
     }
 

@@ -49,11 +49,22 @@ impl Rock<'_, '_, '_> {
                 continue;
             }
             let cell = (g.nrows - 1 - j as usize) * g.ncols + i as usize;
+            // a path starting exactly on a cell edge (after a net cut it) crosses the cell
+            // behind the edge in zero length: that is no visit, nor an entry into the cell
+            // ahead (which would be its second)
+            if piece.s_b <= piece.s_a && piece.s_b < end {
+                continue;
+            }
             if self.visit.is_none_or(|(c, _)| c != cell) {
+                let first = self.visit.is_none();
                 self.flush_visit();
                 self.visit = Some((cell, EMPTY_VISIT));
                 let c = ground.cell(cell);
-                if c.nets > 0 && piece.s_a > 0.0 {
+                // a net acts once per passage through its cells (ours: a rasterised line is
+                // often two cells wide along a path), not on a rock released among them
+                let met = first || c.net_id == 0 || c.net_id == self.net_id;
+                self.net_entry(seg, piece.s_a, c.net_id, met);
+                if !met {
                     let q = seg.pos(piece.s_a);
                     let zg = ground.height_m(q.x, q.y).unwrap_or(f64::NEG_INFINITY);
                     if q.z - zg < c.net_height_m {
@@ -66,6 +77,31 @@ impl Rock<'_, '_, '_> {
             self.sample(seg, piece.s_b);
         }
         None
+    }
+
+    /// The rock enters a cell of net `net_id` (0: none) at `tau`; `met` when it is still in
+    /// the same passage through the net's cells (or was released there). The first cell of a
+    /// passage through the cells of a net that has a screen (`[nets] screens`) counts as a
+    /// crossing of that screen, at the entry point and before the net acts, whatever the
+    /// rock's height.
+    fn net_entry(&mut self, seg: &Seg, tau: f64, net_id: u32, met: bool) {
+        self.net_id = net_id;
+        if met {
+            return;
+        }
+        if let Some(k) = self.world.screens.net_screen(net_id) {
+            let q = seg.pos(tau);
+            let u = seg.vel(tau);
+            let zg = self.world.ground.height_m(q.x, q.y).unwrap_or(q.z);
+            let crossing = ScreenCrossing {
+                velocity_ms: u.length(),
+                energy_j: self.energy_j(u),
+                jump_height_m: q.z - zg,
+                x_m: q.x,
+                y_m: q.y,
+            };
+            self.tally.screen_crossing(k, crossing);
+        }
     }
 
     /// Folds the state at `tau` into the current visit and the rock's maxima.

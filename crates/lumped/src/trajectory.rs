@@ -86,6 +86,8 @@ pub(crate) struct Rock<'w, 'a, 't> {
     pub(crate) visit: Option<(usize, CellVisit)>,
     pub(crate) last_rebound_cell: Option<usize>,
     pub(crate) last_stem: Option<usize>,
+    /// Id of the net whose cells the rock is in (0: none; see `Rock::net_entry`).
+    pub(crate) net_id: u32,
     pub(crate) max_v: f64,
     pub(crate) max_h: f64,
     pub(crate) impacts: u32,
@@ -133,6 +135,7 @@ pub fn simulate(
         visit: None,
         last_rebound_cell: None,
         last_stem: None,
+        net_id: 0,
         max_v: 0.0,
         max_h: 0.0,
         impacts: 0,

@@ -72,12 +72,14 @@ fn scenario() -> (Scenario, Forest) {
             points_m: vec![[500.0, 2100.0], [540.0, 2095.0], [580.0, 2100.0]],
             capacity_kj: None,
             height_m: None,
+            net: None,
         },
         Screen {
             name: "lower".into(),
             points_m: vec![[500.0, 2040.0], [580.0, 2040.0]],
             capacity_kj: None,
             height_m: None,
+            net: None,
         },
     ];
     // a row of nets of 50 kJ, 2 m high, across the slope at row 60

@@ -119,6 +119,8 @@ struct ScreenRecord {
     points_m: Vec<[f64; 2]>,
     capacity_kj: Option<f64>,
     height_m: Option<f64>,
+    #[serde(default)]
+    net: Option<u32>,
 }
 
 impl From<&Layout> for LayoutRecord {
@@ -138,6 +140,7 @@ impl From<&Layout> for LayoutRecord {
                     points_m: s.points_m.clone(),
                     capacity_kj: s.capacity_kj,
                     height_m: s.height_m,
+                    net: s.net,
                 })
                 .collect(),
             percentiles: l.percentiles.clone(),
@@ -169,6 +172,7 @@ impl From<LayoutRecord> for Layout {
                     points_m: s.points_m,
                     capacity_kj: s.capacity_kj,
                     height_m: s.height_m,
+                    net: s.net,
                 })
                 .collect(),
             percentiles: r.percentiles,

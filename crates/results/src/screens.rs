@@ -32,9 +32,14 @@ struct Piece {
 ///   only (the one it starts), so a path through a vertex crosses once;
 /// - a path segment lying along a screen piece (collinear) does not cross it, nor does a
 ///   zero-length segment.
+///
+/// The screen of a net (`Screen::net`) has no pieces: its crossings are the rocks' entries
+/// into the net's cells, which the engine reports through [`ScreenSet::net_screen`].
 #[derive(Debug, Clone, Default)]
 pub struct ScreenSet {
     pieces: Vec<Piece>,
+    /// (net id, screen index) of the nets' screens, sorted by id.
+    nets: Vec<(u32, usize)>,
 }
 
 /// Twice the signed area of triangle (a, b, c): > 0 when c lies left of a → b.
@@ -48,7 +53,12 @@ impl ScreenSet {
     /// or repeated vertices are skipped.
     pub fn new(screens: &[Screen]) -> ScreenSet {
         let mut pieces = Vec::new();
+        let mut nets = Vec::new();
         for (screen, s) in screens.iter().enumerate() {
+            if let Some(id) = s.net {
+                nets.push((id, screen));
+                continue;
+            }
             let pts: Vec<[f64; 2]> = s
                 .points_m
                 .iter()
@@ -75,12 +85,20 @@ impl ScreenSet {
                 });
             }
         }
-        ScreenSet { pieces }
+        nets.sort_unstable();
+        nets.dedup_by_key(|n| n.0);
+        ScreenSet { pieces, nets }
     }
 
-    /// True when there is no screen to cross.
+    /// True when there is no screen polyline to cross (nets' screens aside).
     pub fn is_empty(&self) -> bool {
         self.pieces.is_empty()
+    }
+
+    /// Index of the screen of net `id`, when it has one.
+    pub fn net_screen(&self, id: u32) -> Option<usize> {
+        let k = self.nets.binary_search_by_key(&id, |n| n.0).ok()?;
+        Some(self.nets[k].1)
     }
 
     /// Calls `f(screen_index, s)` for every crossing of the horizontal segment `p0 → p1`
@@ -199,6 +217,7 @@ mod tests {
             points_m: points.to_vec(),
             capacity_kj: None,
             height_m: None,
+            net: None,
         }])
     }
 
@@ -273,12 +292,14 @@ mod tests {
                 points_m: vec![[8.0, -1.0], [8.0, 1.0]],
                 capacity_kj: None,
                 height_m: None,
+                net: None,
             },
             Screen {
                 name: "near".into(),
                 points_m: vec![[2.0, -1.0], [2.0, 1.0]],
                 capacity_kj: None,
                 height_m: None,
+                net: None,
             },
         ]);
         assert_eq!(

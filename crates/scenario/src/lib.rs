@@ -101,7 +101,7 @@ pub struct Nets {
 pub struct Screen {
     /// Name used in outputs.
     pub name: String,
-    /// Vertices (x, y), m; at least two.
+    /// Vertices (x, y), m; at least two (a net's screen may have none: see `net`).
     pub points_m: Vec<[f64; 2]>,
     /// Energy a barrier on this line can take, kJ (its energy capacity, the maximum energy
     /// level of EAD 340059-00-0106 §2.2.1); `summary.json` then gives the share of crossings
@@ -110,6 +110,10 @@ pub struct Screen {
     /// Height of a barrier on this line, m; `summary.json` then gives the share of crossings
     /// with the rock's centre higher above the ground.
     pub height_m: Option<f64>,
+    /// The screen of the net numbered so (`[nets] screens = true`): its crossings are the
+    /// rocks' entries into the net's cells, where the net acts (lumped engine), whatever
+    /// their height; `points_m`, the net's line when it came from one, is only drawn.
+    pub net: Option<u32>,
 }
 
 /// Everything one simulation needs.

@@ -220,6 +220,12 @@ impl Scenario {
             aligned(name, f, dem)?;
             in_range(name, f, "≥ 0", |v| v >= 0.0)?;
         }
+        in_range(
+            "net_number",
+            &n.number,
+            "a whole number (the net's id; 0: no net)",
+            |v| v.fract() == 0.0 && v <= f64::from(u32::MAX),
+        )?;
         Ok(())
     }
 
@@ -233,7 +239,8 @@ impl Scenario {
                     format!("screen name `{}` is empty or used twice", s.name),
                 ));
             }
-            if s.points_m.len() < 2 || s.points_m.iter().flatten().any(|v| !v.is_finite()) {
+            let vertices_ok = s.points_m.len() >= 2 || (s.net.is_some() && s.points_m.is_empty());
+            if !vertices_ok || s.points_m.iter().flatten().any(|v| !v.is_finite()) {
                 return Err(ScenarioError::invalid(
                     &name,
                     "a screen needs at least two finite vertices [x_m, y_m]",

@@ -114,6 +114,7 @@ pub fn build() -> Result<Scenario, SiteError> {
             points_m: vec![[0.0, y_top - foot_d], [WIDTH_M, y_top - foot_d]],
             capacity_kj: None,
             height_m: None,
+            net: None,
         }],
         lumped: LumpedSettings::default(),
         rigid: RigidParams::default(),

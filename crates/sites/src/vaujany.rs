@@ -389,6 +389,7 @@ fn build_rows(site: Site, nrows: usize, u: &Unknowns) -> Result<Scenario, SiteEr
         points_m: vec![[g.x_min_m, Y_MAX_M - d], [g.x_max_m(), Y_MAX_M - d]],
         capacity_kj: None,
         height_m: None,
+        net: None,
     };
     let last_centre_d = (nrows as f64 - 0.5) * CELL_M;
     let screens: Vec<Screen> = [
