@@ -16,10 +16,7 @@ use std::path::{Path, PathBuf};
 use tempfile::TempDir;
 
 fn site() -> (TempDir, PathBuf) {
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path().join("site");
-    ok(rockfall(&["site", "vaujany-site2", "--out", s(&dir)]));
-    (tmp, dir)
+    common::built_in_site("vaujany-site2")
 }
 
 fn run(input: &Path, out: &Path) -> Value {

@@ -17,10 +17,7 @@ use tempfile::TempDir;
 
 /// `rockfall site vaujany-site2` into a fresh folder; returns (tempdir, site dir).
 fn site() -> (TempDir, PathBuf) {
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path().join("site");
-    ok(rockfall(&["site", "vaujany-site2", "--out", s(&dir)]));
-    (tmp, dir)
+    common::built_in_site("vaujany-site2")
 }
 
 /// Runs `rockfall run INPUT --out OUT` with `extra` flags; returns OUT's summary.json.

@@ -90,17 +90,22 @@ impl Rock<'_, '_, '_> {
             return;
         }
         if let Some(k) = self.world.screens.net_screen(net_id) {
-            let q = seg.pos(tau);
-            let u = seg.vel(tau);
-            let zg = self.world.ground.height_m(q.x, q.y).unwrap_or(q.z);
-            let crossing = ScreenCrossing {
-                velocity_ms: u.length(),
-                energy_j: self.energy_j(u),
-                jump_height_m: q.z - zg,
-                x_m: q.x,
-                y_m: q.y,
-            };
+            let crossing = self.crossing_at(seg, tau);
             self.tally.screen_crossing(k, crossing);
+        }
+    }
+
+    /// The rock as a screen sees it at `tau` of `seg`: speed, kinetic energy, height of its
+    /// centre above the ground and plan position.
+    fn crossing_at(&self, seg: &Seg, tau: f64) -> ScreenCrossing {
+        let (q, u) = (seg.pos(tau), seg.vel(tau));
+        let zg = self.world.ground.height_m(q.x, q.y).unwrap_or(q.z);
+        ScreenCrossing {
+            velocity_ms: u.length(),
+            energy_j: self.energy_j(u),
+            jump_height_m: q.z - zg,
+            x_m: q.x,
+            y_m: q.y,
         }
     }
 
@@ -143,16 +148,7 @@ impl Rock<'_, '_, '_> {
         screens.for_each_crossing([a.x, a.y], [b.x, b.y], |k, s| buf.push((k, s)));
         for i in 0..self.scratch.crossings.len() {
             let (k, s) = self.scratch.crossings[i];
-            let tau = s * end;
-            let (q, u) = (seg.pos(tau), seg.vel(tau));
-            let zg = self.world.ground.height_m(q.x, q.y).unwrap_or(q.z);
-            let crossing = ScreenCrossing {
-                velocity_ms: u.length(),
-                energy_j: self.energy_j(u),
-                jump_height_m: q.z - zg,
-                x_m: q.x,
-                y_m: q.y,
-            };
+            let crossing = self.crossing_at(seg, s * end);
             self.tally.screen_crossing(k, crossing);
         }
     }

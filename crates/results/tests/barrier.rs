@@ -7,9 +7,7 @@ mod common;
 
 use std::sync::Arc;
 
-use rockfall_results::{
-    Layout, Outcome, Results, RockEnd, RockStart, RunInfo, ScreenCrossing, Tally,
-};
+use rockfall_results::{Layout, Results, RockStart, RunInfo, ScreenCrossing, Tally};
 
 /// The common layout with limits on the first screen only: 5 kJ and 0.5 m.
 fn layout() -> Arc<Layout> {
@@ -42,19 +40,7 @@ fn rock(t: &mut Tally, id: u64, crossings: &[(f64, f64)]) {
             t.screen_crossing(screen, c);
         }
     }
-    t.end_rock(RockEnd {
-        outcome: Outcome::LeftDem,
-        x_m: 0.0,
-        y_m: 0.0,
-        runout_m: 1.0,
-        max_velocity_ms: 1.0,
-        max_jump_height_m: 1.0,
-        tree_impacts: 0,
-        stems_broken: 0,
-        rebounds: 0,
-        time_s: 1.0,
-        events: 0,
-    });
+    t.end_rock(common::left_dem());
 }
 
 #[test]

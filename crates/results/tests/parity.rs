@@ -7,9 +7,7 @@ mod common;
 use std::sync::Arc;
 
 use rockfall_raster::Grid;
-use rockfall_results::{
-    CellVisit, Elevation, Layout, Outcome, Results, RockEnd, RockStart, RunInfo, Tally,
-};
+use rockfall_results::{CellVisit, Elevation, Layout, Results, RockStart, RunInfo, Tally};
 
 /// The common 6 × 5 grid of 2 m cells, with a DEM falling 3 m per row southwards (row 0,
 /// the northern row, at 100 m) and rising 0.5 m per column eastwards.
@@ -51,19 +49,7 @@ fn rock(t: &mut Tally, id: u64, source: usize, visits: &[Visit]) {
             },
         );
     }
-    t.end_rock(RockEnd {
-        outcome: Outcome::LeftDem,
-        x_m: 0.0,
-        y_m: 0.0,
-        runout_m: 1.0,
-        max_velocity_ms: 1.0,
-        max_jump_height_m: 1.0,
-        tree_impacts: 0,
-        stems_broken: 0,
-        rebounds: 0,
-        time_s: 1.0,
-        events: 0,
-    });
+    t.end_rock(common::left_dem());
 }
 
 #[test]

@@ -10,7 +10,7 @@ mod common;
 use rockfall_engine::{Plan, RunOptions};
 use rockfall_forest::Forest;
 use rockfall_raster::Field;
-use rockfall_results::{Layout, Results, RunInfo};
+use rockfall_results::{Layout, Outcome, Results, RunInfo};
 use rockfall_rigid::{RigidError, RigidModel};
 use rockfall_scenario::{BlockShape, Engine, Release, ReleasePoint, RockShape, RockSpec, Scenario};
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
@@ -315,4 +315,44 @@ fn open_slope_rock_reaches_the_plane() {
     let last = r.trajectories().last().unwrap();
     let left = sum["left_dem_fraction"] == 1.0;
     assert!(left || last.z_m < 1.0, "ended at {last:?}");
+}
+
+/// `[rock] volume_variation_percent` in the rigid engine: each rock's hull is scaled, so its
+/// volume lies within ±P % of the block's, its mass follows at the block's density, and a
+/// dropped rock still comes to rest with its energies finite.
+#[test]
+fn varied_volumes_scale_the_hull_and_the_mass() {
+    let mut rock = block();
+    rock.volume_variation_percent = 40.0;
+    let mut s = flat_scenario(rock, ReleasePoint::at_rest(0.3, 0.2, 0.5));
+    s.simulation.max_time_s = 3.0;
+    s.simulation.rocks_per_point = 12;
+    s.output.rocks_csv = true;
+    let r = run(&s, None, 2);
+    let v0 = 0.4 * 0.3 * 0.2;
+    let records = r.rock_records();
+    assert_eq!(records.len(), 12);
+    for k in records {
+        let q = k.volume_m3 / v0;
+        assert!((0.6..=1.4).contains(&q), "volume factor {q}");
+        assert!(
+            (k.mass_kg / k.volume_m3 / 2700.0 - 1.0).abs() < 1e-9,
+            "{k:?}"
+        );
+        // released 0.5 m above the ground and at rest on flat ground: it lands and stops
+        assert!(matches!(k.end.outcome, Outcome::Stopped { .. }), "{k:?}");
+    }
+    let (lo, hi) = (records.iter()).fold((f64::MAX, 0f64), |(a, b), k| {
+        (a.min(k.volume_m3), b.max(k.volume_m3))
+    });
+    assert!(hi / lo > 1.4, "volumes from {lo} to {hi} m³");
+    // the same seed without variation: every rock the block itself
+    s.rock.volume_variation_percent = 0.0;
+    let plain = run(&s, None, 2);
+    assert!(
+        plain
+            .rock_records()
+            .iter()
+            .all(|k| (k.volume_m3 / v0 - 1.0).abs() < 1e-12)
+    );
 }

@@ -90,3 +90,11 @@ pub fn typed_summary(path: &Path) -> rockfall_results::Summary {
     );
     summary
 }
+
+/// `rockfall site NAME` written into a fresh temporary folder; returns (tempdir, site dir).
+pub fn built_in_site(name: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("site");
+    ok(rockfall(&["site", name, "--out", s(&dir)]));
+    (tmp, dir)
+}

@@ -76,6 +76,23 @@ impl Lcg {
 
 /// Simulates rock `rock_id` into `tally`: a pseudo-random but reproducible stream of events
 /// depending only on the rock id (as the real engines' streams do).
+/// The end of a rock that left the DEM after 1 m, 1 s, at 1 m/s and 1 m high at most.
+pub fn left_dem() -> RockEnd {
+    RockEnd {
+        outcome: Outcome::LeftDem,
+        x_m: 0.0,
+        y_m: 0.0,
+        runout_m: 1.0,
+        max_velocity_ms: 1.0,
+        max_jump_height_m: 1.0,
+        tree_impacts: 0,
+        stems_broken: 0,
+        rebounds: 0,
+        time_s: 1.0,
+        events: 0,
+    }
+}
+
 pub fn simulate_rock(tally: &mut Tally, rock_id: u64) {
     let mut r = Lcg(rock_id.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ 0x1234_5678);
     let ncells = tally.layout().geometry.len() as u64;
