@@ -257,6 +257,13 @@ fn nets_as_screens_carry_the_nets_limits() {
         .replace("rocks_per_cell = 4", "rocks_per_cell = 40")
             + "\n[output]\nscreen_crossings = true\n"
     });
+    let listed = ok(rockfall(&["check", s(&scenario)]));
+    for needle in [
+        "net_1 (net 1, 1000 kJ, 4 m high)",
+        "net_2 (net 2, 3000 kJ, 6 m high)",
+    ] {
+        assert!(listed.contains(needle), "{needle} missing from:\n{listed}");
+    }
     let run_dir = dir.path().join("out");
     ok(rockfall(&["run", s(&scenario), "--out", s(&run_dir)]));
     let summary = json(&run_dir.join("summary.json"));

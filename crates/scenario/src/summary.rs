@@ -101,7 +101,7 @@ impl Overview {
                 scenario
                     .screens
                     .iter()
-                    .map(|s| format!("{} ({:.1} m)", s.name, polyline_length_m(&s.points_m)))
+                    .map(screen_text)
                     .collect::<Vec<_>>()
                     .join(", ")
             },
@@ -114,7 +114,30 @@ impl Overview {
     }
 }
 
+/// A screen as `check` lists it: its length, or the net it reads, and its limits.
+fn screen_text(s: &crate::Screen) -> String {
+    let mut t = match s.net {
+        Some(id) => format!("{} (net {id}", s.name),
+        None => format!("{} ({:.1} m", s.name, polyline_length_m(&s.points_m)),
+    };
+    if let Some(c) = s.capacity_kj {
+        t += &format!(", {c} kJ");
+    }
+    if let Some(h) = s.height_m {
+        t += &format!(", {h} m high");
+    }
+    t + ")"
+}
+
 fn rock_text(s: &Scenario) -> String {
+    let text = rock_shape_text(s);
+    match s.rock.volume_variation_percent {
+        p if p > 0.0 => format!("{text}; each rock's volume within ±{p} %"),
+        _ => text,
+    }
+}
+
+fn rock_shape_text(s: &Scenario) -> String {
     let r = &s.rock;
     let density = range_text(r.density_kg_m3.range(), "kg/m³");
     match &r.shape {
