@@ -12,11 +12,26 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 /// vaujany-site2 written into a fresh folder: (tempdir, scenario file).
+/// `vaujany-site2` with per-rock and per-crossing records and varied rock volumes, so that
+/// `rocks.csv` and `screen_crossings.csv` are compared too.
 fn site2() -> (tempfile::TempDir, PathBuf) {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("site2");
     ok(rockfall(&["site", "vaujany-site2", "--out", s(&dir)]));
-    (tmp, dir.join("scenario.toml"))
+    let path = dir.join("scenario.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let edited = (text.replace("\nrocks_csv = false\n", "\nrocks_csv = true\n"))
+        .replace(
+            "\nscreen_crossings = false\n",
+            "\nscreen_crossings = true\n",
+        )
+        .replace("\n[rock]\n", "\n[rock]\nvolume_variation_percent = 15\n");
+    assert_eq!(
+        edited.matches("true\n").count(),
+        text.matches("true\n").count() + 2
+    );
+    std::fs::write(&path, edited).unwrap();
+    (tmp, path)
 }
 
 /// `summary.json` without its timings.
@@ -87,6 +102,14 @@ fn partitions_merge_into_the_single_run_byte_for_byte() {
     assert!(out.contains("merged 3 shares of 600 rocks"), "{out}");
     same_outputs(&t.join("single"), &merged);
     assert!(merged.join("report.html").exists() && merged.join("rockfall.tally").exists());
+    for table in ["rocks.csv", "screen_crossings.csv"] {
+        let text = std::fs::read_to_string(merged.join(table)).unwrap();
+        assert!(
+            text.lines().count() > 100,
+            "{table}: {} lines",
+            text.lines().count()
+        );
+    }
     // a merged folder merges again, alone: the same run
     let again = t.join("again");
     ok(rockfall(&[
