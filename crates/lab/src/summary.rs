@@ -131,12 +131,13 @@ pub struct Labelled {
     pub metrics: Vec<Metrics>,
 }
 
-/// A Markdown table of the regimes of `runs`: per regime and run, n and the mode, mean and
-/// median of ΔE_total, ΔE_trans and Δω, in %.
+/// A Markdown table of the regimes of `runs`: per regime and run, n and the mode, mean (with
+/// its bootstrap 95 % interval) and median of ΔE_total, ΔE_trans and Δω, in %.
 pub fn regime_table(runs: &[Labelled]) -> String {
     let mut t = String::from(
-        "| regime | shape | n | ΔE_total mode | mean | p50 | ΔE_trans mode | mean | p50 \
-         | Δω mode | mean | p50 |\n|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n",
+        "| regime | shape | n | ΔE_total mode | mean [95 % CI] | p50 | ΔE_trans mode \
+         | mean [95 % CI] | p50 | Δω mode | mean [95 % CI] | p50 |\n\
+         |---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n",
     );
     let summaries: Vec<[RegimeSummary; 3]> = runs.iter().map(|r| by_regime(&r.metrics)).collect();
     for (r, regime) in Regime::ALL.iter().enumerate() {
@@ -145,7 +146,14 @@ pub fn regime_table(runs: &[Labelled]) -> String {
             t += &format!("| {} | {} | {} |", regime.name(), run.label, s.n);
             for d in &s.stats {
                 t += &match d {
-                    Some(d) => format!(" {} | {} | {} |", pct(d.mode), pct(d.mean), pct(d.p50)),
+                    Some(d) => format!(
+                        " {} | {} [{}, {}] | {} |",
+                        pct(d.mode),
+                        pct(d.mean),
+                        pct(d.ci95[0]),
+                        pct(d.ci95[1]),
+                        pct(d.p50)
+                    ),
                     None => " – | – | – |".into(),
                 };
             }
@@ -207,7 +215,7 @@ mod tests {
         assert_eq!(keys(&v["frontal"]), quantities);
         assert_eq!(
             keys(&v["frontal"]["total_energy_loss"]),
-            ["mean", "mode", "n", "p50"]
+            ["ci95", "mean", "mode", "n", "p50"]
         );
     }
 }

@@ -354,3 +354,29 @@ fn slope_offsets_are_along_and_to_the_left_of_the_fall_line() {
     assert!(close(&s.lateral_end_m, &[sd, 1.1, 2.9, 3.0]), "{s:?}");
     assert!(close(&s.lateral_path_m, &[2.5, 3.85, 4.0]), "{s:?}");
 }
+
+/// The sphere's mean total energy losses per regime agree within 0.02 with an independent
+/// closed-form Monte Carlo of a smooth ball on the same setup (0.850 frontal, 0.723 lateral,
+/// 0.443 scratch: issue 19's measurement), a regression guard on the lab's contact and
+/// bookkeeping; and each mean lies inside its bootstrap interval.
+#[test]
+fn sphere_regime_means_match_the_closed_form_ball() {
+    let lab = lab("sphere", LabSetup::default());
+    let run = run_lab(&lab, 1, 600, 2, &|_| {}).unwrap();
+    let metrics: Vec<Metrics> = run.impacts.iter().map(Metrics::from).collect();
+    let regimes = rockfall_lab::summary::Regimes::of(&metrics);
+    for (name, report, expected) in [
+        ("frontal", regimes.frontal, 0.850),
+        ("lateral", regimes.lateral, 0.723),
+        ("scratch", regimes.scratch, 0.443),
+    ] {
+        let d = report.total_energy_loss.unwrap();
+        assert!(d.n >= 100, "{name}: {} impacts", d.n);
+        assert!(
+            (d.mean - expected).abs() < 0.02,
+            "{name}: mean {} vs {expected}",
+            d.mean
+        );
+        assert!(d.ci95[0] < d.mean && d.mean < d.ci95[1], "{name}: {d:?}");
+    }
+}
