@@ -1,11 +1,11 @@
 //! What `rockfall impact-lab` writes: `impacts.csv`, `summary.json` and the figures.
 
-use crate::LabError;
 use crate::figures::figures;
 use crate::impact::Lab;
 use crate::run::{LabRun, MissCounts};
 use crate::summary::{Labelled, Metrics, RegimeReport, RegimeSummary, Regimes};
 use crate::table::write_impacts;
+use crate::{LabError, Regime};
 use rockfall_forest::impact_type::{FRONTAL_MAX, LATERAL_MAX};
 use rockfall_scenario::ContactParams;
 use serde::{Deserialize, Serialize};
@@ -80,8 +80,43 @@ pub struct LabSummary {
     pub wall_time_s: f64,
     /// The metrics per regime.
     pub regimes: Regimes,
+    /// The same impacts sorted into regimes by [`ALTERNATIVE_THRESHOLDS`] instead of thirds:
+    /// how much the shares and losses depend on where the regimes are cut (ours: the papers
+    /// name the regimes without numeric bounds). Absent in summaries written before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub regimes_alternative: Option<AlternativeRegimes>,
     /// The metrics of all impacts.
     pub all: RegimeReport,
+}
+
+/// The alternative regime bounds of `summary.json` `regimes_alternative`: frontal below 0.4,
+/// scratch from 0.75.
+pub const ALTERNATIVE_THRESHOLDS: ZetaThresholds = ZetaThresholds {
+    frontal_below: 0.4,
+    scratch_from: 0.75,
+};
+
+/// The impacts' regimes under other ζ_CT bounds.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AlternativeRegimes {
+    /// The bounds.
+    pub zeta_ct_thresholds: ZetaThresholds,
+    /// The metrics per regime under them.
+    pub regimes: Regimes,
+}
+
+impl ZetaThresholds {
+    /// The regime of eccentricity `zeta_ct` under these bounds (NaN: scratch, as
+    /// [`Regime::of`]).
+    pub fn regime(&self, zeta_ct: f64) -> Regime {
+        if zeta_ct < self.frontal_below {
+            Regime::Frontal
+        } else if zeta_ct < self.scratch_from {
+            Regime::Lateral
+        } else {
+            Regime::Scratch
+        }
+    }
 }
 
 /// The rock of an impact-lab run.
@@ -162,6 +197,12 @@ impl LabSummary {
         let b = lab.body();
         let g = &b.geometry;
         let metrics: Vec<Metrics> = run.impacts.iter().map(Metrics::from).collect();
+        let alternative: Vec<Metrics> = (run.impacts.iter().zip(&metrics))
+            .map(|(i, m)| Metrics {
+                regime: ALTERNATIVE_THRESHOLDS.regime(i.zeta_ct),
+                ..*m
+            })
+            .collect();
         let pair = |(lo, hi): (f64, f64)| [lo, hi];
         LabSummary {
             experiment: "impact-lab".into(),
@@ -215,6 +256,10 @@ impl LabSummary {
             threads: run.threads as u64,
             wall_time_s: run.wall_time_s,
             regimes: Regimes::of(&metrics),
+            regimes_alternative: Some(AlternativeRegimes {
+                zeta_ct_thresholds: ALTERNATIVE_THRESHOLDS,
+                regimes: Regimes::of(&alternative),
+            }),
             all: RegimeSummary::of(&metrics, |_| true).report(metrics.len()),
         }
     }

@@ -380,3 +380,27 @@ fn sphere_regime_means_match_the_closed_form_ball() {
         assert!(d.ci95[0] < d.mean && d.mean < d.ci95[1], "{name}: {d:?}");
     }
 }
+
+/// `summary.json` `regimes_alternative`: the same impacts cut at ζ_CT 0.4 / 0.75; every
+/// impact keeps its metrics, only its regime moves, and the frontal class can only grow.
+#[test]
+fn the_alternative_thresholds_resort_the_same_impacts() {
+    let lab = lab("sphere", LabSetup::default());
+    let run = run_lab(&lab, 2, 300, 2, &|_| {}).unwrap();
+    let s = rockfall_lab::output::LabSummary::new("sphere", &lab, &run, 2, 300);
+    let alt = s.regimes_alternative.unwrap();
+    assert_eq!(alt.zeta_ct_thresholds.frontal_below, 0.4);
+    assert_eq!(alt.zeta_ct_thresholds.scratch_from, 0.75);
+    let (a, b) = (&s.regimes, &alt.regimes);
+    assert_eq!(
+        a.frontal.n + a.lateral.n + a.scratch.n,
+        b.frontal.n + b.lateral.n + b.scratch.n
+    );
+    assert!(
+        b.frontal.n > a.frontal.n && b.scratch.n < a.scratch.n,
+        "{a:?} {b:?}"
+    );
+    // by hand: the regimes of the impacts' own ζ_CT
+    let frontal = run.impacts.iter().filter(|i| i.zeta_ct < 0.4).count() as u64;
+    assert_eq!(b.frontal.n, frontal);
+}
