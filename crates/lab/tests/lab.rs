@@ -404,3 +404,60 @@ fn the_alternative_thresholds_resort_the_same_impacts() {
     let frontal = run.impacts.iter().filter(|i| i.zeta_ct < 0.4).count() as u64;
     assert_eq!(b.frontal.n, frontal);
 }
+
+/// An oblique impact in the sliding-friction regime, by hand. A ball (no spin, ε = 0,
+/// μ = 0.6) strikes the stem with its path 0.95 (R + r) off the axis: the contact normal n
+/// is horizontal, at sin α = 0.95 from the path, so the slip velocity s (the velocity's part
+/// across n: sideways and, from the fall, downwards) is over 3 times v_n. Sticking would need
+/// P_t = m |s| k/(1 + k) (k = I/(m r²) = 0.4: 0.29 m |s|), above μ P_n = 0.6 m v_n: the
+/// rock slides. So v_n⁺ = 0, the slip loses μ v_n along its own direction, and the rock
+/// leaves spinning at ω = μ m v_n r / I.
+#[test]
+fn oblique_impact_in_the_sliding_regime_by_hand() {
+    let setup = LabSetup::default();
+    let lab = lab("ball", setup.clone());
+    let m = lab.body().mass_kg;
+    let r = (0.02 * 3.0 / (4.0 * std::f64::consts::PI)).cbrt();
+    let k = lab.body().inertia_kgm2.x / (m * r * r);
+    // the stem's radius about 5 m up (its diameter tapers by 0.01 m per m)
+    let stem_r = 0.5 * (setup.stem_d0_m - 0.01 * 5.0);
+    let i = hit(&lab, &aimed(0.95 * (stem_r + r), 10.0, 0.0));
+    let stem_r = 0.5 * (setup.stem_d0_m - 0.01 * i.impact_height_m);
+    let reach = stem_r + r;
+    let offset = i.offset_m;
+    // centre at contact (offset, −√(reach² − offset²)): n points from the axis to it
+    let n = V3::new(offset, -(reach * reach - offset * offset).sqrt(), 0.0) / reach;
+    let v = i.v_in_ms;
+    let v_n = -v.dot(n);
+    let s = v + v_n * n; // the velocity across n
+    assert!(
+        v_n > 0.0 && s.length() > 3.0 * v_n,
+        "v_n {v_n}, |s| {}",
+        s.length()
+    );
+    assert!(s.length() * k / (1.0 + k) > 0.6 * v_n, "sliding");
+    // after: no normal velocity, the slip reduced by μ v_n along itself, spin μ m v_n r / I
+    let expected = s - 0.6 * v_n * s.normalize();
+    let tol = 0.015 * v.length();
+    assert!(i.v_out_ms.dot(n).abs() < tol, "v_n⁺ {}", i.v_out_ms.dot(n));
+    assert!(
+        (i.v_out_ms - expected).length() < tol,
+        "{:?} vs {expected:?}",
+        i.v_out_ms
+    );
+    let spin = 0.6 * v_n / (k * r);
+    assert!(
+        (i.omega_out_rads / spin - 1.0).abs() < 0.03,
+        "ω⁺ {} vs {spin}",
+        i.omega_out_rads
+    );
+    let e_in = 0.5 * m * v.length_squared();
+    let e_out = 0.5 * m * expected.length_squared() + 0.5 * m * (0.6 * v_n).powi(2) / k;
+    let loss = 1.0 - e_out / e_in;
+    assert!(
+        (i.total_energy_loss() - loss).abs() < 0.02,
+        "ΔE_total {} vs {loss} by hand",
+        i.total_energy_loss()
+    );
+    assert_eq!(i.regime, Regime::Scratch);
+}

@@ -562,3 +562,59 @@ fn sliding_sphere_starts_to_roll() {
         "rolls at {v} m/s"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// 8. A disc rolling on its edge
+
+/// A disc (1 m across, 0.2 m thick) set rolling on its rim on flat ground (μ = 0.6, ε = 0)
+/// at 4 m/s, spinning about its symmetry axis — the major principal axis — as a wheel rolls
+/// (ω R = v), leaning 3° off upright. Through `step` with its contacts it keeps rolling on
+/// its edge: the spin stays near the major axis, the lean stays bounded, the centre at the
+/// rim's height, for 1 s and 4 m. (A rolling coin is upright-stable above ω² ≈ g/(3R); here
+/// ω² ≈ 64 ≫ 6.5 s⁻²: the lean makes it curve, not fall.)
+#[test]
+fn disc_rolling_on_its_edge_stays_on_its_major_axis() {
+    let body = body_of(&rockfall_rigid::shape::disc_points([0.2, 1.0, 1.0]));
+    let [t1, t2, t3] = [
+        body.inertia_kgm2.x,
+        body.inertia_kgm2.y,
+        body.inertia_kgm2.z,
+    ];
+    assert!(
+        t3 > 1.5 * t2 && (t1 - t2).abs() < 0.05 * t2,
+        "Θ {t1} {t2} {t3}"
+    );
+    let ground = flat(6.0);
+    let p = params(&body, law(0.6, 0.0, 0.0));
+    // the symmetry (major, body z) axis along world y: the disc rolls along x
+    let upright = Quat::from_rotation_arc(V3::Z, V3::Y);
+    let radius = resting_on_plane(&body, upright, V3::ZERO, V3::Z, 0.0).z;
+    let q = Quat::from_rotation_x(3f64.to_radians()) * upright;
+    let r0 = resting_on_plane(&body, q, V3::new(-3.0, 0.0, 0.0), V3::Z, 0.0);
+    let v0 = 4.0;
+    let mut s = at_rest(r0, q);
+    s.v_ms = V3::new(v0, 0.0, 0.0);
+    s.w_body_rads = q.inverse() * V3::new(0.0, v0 / radius, 0.0);
+    let (mut worst_axis, mut worst_tilt) = (0.0f64, 0.0f64);
+    run(&mut s, &p, &ground, None, 1000, |_, s, _| {
+        let axis = s.q * V3::Z;
+        let w = s.w_world_rads();
+        worst_axis = worst_axis.max(w.normalize().dot(axis).abs().min(1.0).acos().to_degrees());
+        worst_tilt = worst_tilt.max(axis.z.abs().asin().to_degrees());
+        assert!(
+            (0.9 * radius..1.05 * radius).contains(&s.r_m.z),
+            "the disc fell: centre {} m up, rim {radius} m",
+            s.r_m.z
+        );
+        true
+    });
+    assert!(worst_axis < 10.0, "spin {worst_axis}° off the major axis");
+    assert!(worst_tilt < 10.0, "axis tilted {worst_tilt}°");
+    assert!(
+        s.r_m.x > -3.0 + 3.0 && s.v_ms.x > 0.5 * v0,
+        "rolled to {:?} at {:?}",
+        s.r_m,
+        s.v_ms
+    );
+    assert!(s.r_m.y.abs() < 1.0, "curved off by y = {}", s.r_m.y);
+}
