@@ -138,8 +138,9 @@ pub enum Command {
     /// figures (PDFs of ΔE_total, ΔE_trans, Δω; δE_rot vs δE_trans). With --compare, draws
     /// earlier runs side by side instead of simulating.
     ImpactLab {
-        /// Rock shape: sphere, cubic1.2, flat2.2, long2.2, box, ellipsoid, disc, or a point
-        /// cloud / mesh file (.xyz .csv .txt .obj .ply .stl); rescaled to 0.02 m³.
+        /// Rock shape: sphere, cubic1.2, flat2.2, long2.2, box, ellipsoid, disc, a rough rock
+        /// rough-<class><Π>-<member> (e.g. rough-flat2.2-7), or a point cloud / mesh file
+        /// (.xyz .csv .txt .obj .ply .stl); rescaled to 0.02 m³.
         #[arg(long, default_value = "sphere")]
         shape: String,
         /// Impacts sampled (≥ 1).

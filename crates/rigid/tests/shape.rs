@@ -415,3 +415,52 @@ fn shape_classes_by_hand() {
     assert_eq!(ShapeClass::of_lengths([1.0, 1.0, 1.26]), ShapeClass::Long);
     assert_eq!(ShapeClass::Flat.name(), "flat");
 }
+
+/// Rough rocks (`rough-<class><Π>-<member>`): every member of an ensemble is a convex hull
+/// of the asked class with Π near the asked one, the members differ from each other (other
+/// hulls, other inertia), and the same name gives the same rock.
+#[test]
+fn rough_rocks_keep_their_class_and_aspect_ratio_and_differ_by_member() {
+    use rockfall_rigid::shape::{RockGeometry, rough_points};
+    for (class, pi) in [
+        ("cubic", 1.2),
+        ("flat", 2.2),
+        ("long", 2.2),
+        ("flat", 1.6),
+        ("long", 3.0),
+    ] {
+        let mut inertia = Vec::new();
+        for member in 0..12 {
+            let name = format!("rough-{class}{pi}-{member}");
+            let spec = RockSpec::named(&name, Some(0.02), 2700.0).unwrap();
+            let body = body_from_spec(&spec).unwrap();
+            let g = &body.geometry;
+            assert_eq!(g.class().name(), class, "{name}: lengths {:?}", g.lengths_m);
+            let measured = g.aspect_ratio();
+            assert!((measured / pi - 1.0).abs() < 1e-9, "{name}: Π {measured}");
+            assert!((g.volume_m3 - 0.02).abs() < 1e-9);
+            // faceted: a few dozen vertices, not a smooth hull of hundreds
+            assert!(
+                (20..=60).contains(&g.vertices_m.len()),
+                "{name}: {}",
+                g.vertices_m.len()
+            );
+            inertia.push(body.inertia_kgm2.x);
+            let again = RockGeometry::from_points(&rough_points(&name).unwrap()).unwrap();
+            let first = RockGeometry::from_points(&rough_points(&name).unwrap()).unwrap();
+            assert_eq!(again.vertices_m, first.vertices_m);
+        }
+        inertia.sort_by(f64::total_cmp);
+        inertia.dedup();
+        assert_eq!(inertia.len(), 12, "{class}{pi}: members differ");
+    }
+    for bad in [
+        "rough-flat1.1-3",
+        "rough-cubic2.0-1",
+        "rough-flat2.2",
+        "rough-blob2.2-1",
+        "rough-long11-2",
+    ] {
+        assert!(RockSpec::named(bad, None, 2700.0).is_none(), "{bad}");
+    }
+}

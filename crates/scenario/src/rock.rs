@@ -114,7 +114,7 @@ impl RockShape {
         if let Some(b) = block {
             return Ok(RockShape::Block(b));
         }
-        if NAMED_SHAPES.iter().any(|(n, _)| *n == lower) {
+        if NAMED_SHAPES.iter().any(|(n, _)| *n == lower) || RoughRock::parse(&lower).is_some() {
             return Ok(RockShape::Named(lower));
         }
         let ext = std::path::Path::new(s)
@@ -125,7 +125,8 @@ impl RockShape {
             Some("xyz" | "csv" | "txt" | "obj" | "ply" | "stl") => Ok(RockShape::File(s.into())),
             _ => Err(format!(
                 "unknown shape `{s}` (expected sphere, box, ellipsoid, disc, cubic1.2, flat2.2, \
-                 long2.2, or a .xyz/.csv/.obj/.ply/.stl file)"
+                 long2.2, a rough rock such as rough-flat2.2-7, or a .xyz/.csv/.obj/.ply/.stl \
+                 file)"
             )),
         }
     }
@@ -178,11 +179,12 @@ impl RockSpec {
         }
     }
 
-    /// A named seed 001 shape (`cubic1.2`, …) of `volume_m3` (default 0.02 m³).
+    /// A named seed 001 shape (`cubic1.2`, …) or rough rock (`rough-flat2.2-7`, see
+    /// [`RoughRock`]) of `volume_m3` (default 0.02 m³).
     pub fn named(name: &str, volume_m3: Option<f64>, density_kg_m3: f64) -> Option<Self> {
-        let (n, dims) = NAMED_SHAPES.iter().find(|(n, _)| *n == name)?;
+        let dims = named_dims(name)?;
         Some(RockSpec {
-            shape: RockShape::Named((*n).into()),
+            shape: RockShape::Named(name.into()),
             dims_m: dims.map(Field::Const),
             volume_m3: Some(volume_m3.unwrap_or(SEED_001_VOLUME_M3)),
             density_kg_m3: Field::Const(density_kg_m3),
@@ -216,10 +218,63 @@ impl RockSpec {
 
 /// Dimensions (x, y, z) of a named seed 001 shape as listed in its table 2, m.
 pub fn named_dims(name: &str) -> Option<[f64; 3]> {
-    NAMED_SHAPES
-        .iter()
+    (NAMED_SHAPES.iter())
         .find(|(n, _)| *n == name)
         .map(|(_, d)| *d)
+        .or_else(|| RoughRock::parse(name).map(|r| r.dims_m()))
+}
+
+/// A member of a seeded ensemble of rough rocks, named `rough-<class><Π>-<member>`
+/// (`rough-flat2.2-7`): a class (`cubic`, `flat`, `long`), an aspect ratio Π = l_max/l_min
+/// (1 ≤ Π ≤ 10; ≤ 1.2 for cubic, > 1.2 otherwise) and a member number. The rigid engine
+/// builds it as the convex hull of random points with surface roughness
+/// (`rockfall_rigid::shape::rough_points`); its bulk proportions are those of seed 001's
+/// rock of the class (table 2), stretched to Π.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoughRock {
+    /// `cubic`, `flat` or `long`.
+    pub class: &'static str,
+    /// Aspect ratio Π = l_max / l_min.
+    pub aspect_ratio: f64,
+    /// Ensemble member (seeds its points).
+    pub member: u64,
+}
+
+impl RoughRock {
+    /// The rock named `name`, when it is a well-formed rough-rock name.
+    pub fn parse(name: &str) -> Option<RoughRock> {
+        let rest = name.strip_prefix("rough-")?;
+        let (shape, member) = rest.rsplit_once('-')?;
+        let member: u64 = member.parse().ok()?;
+        let class = ["cubic", "flat", "long"]
+            .into_iter()
+            .find(|c| shape.starts_with(c))?;
+        let aspect_ratio: f64 = shape[class.len()..].parse().ok()?;
+        let cubic = (aspect_ratio * 10.0).round() <= 12.0;
+        let ok = aspect_ratio.is_finite()
+            && (1.0..=10.0).contains(&aspect_ratio)
+            && (cubic == (class == "cubic"));
+        ok.then_some(RoughRock {
+            class,
+            aspect_ratio,
+            member,
+        })
+    }
+
+    /// The principal lengths, m, before volume scaling: l_min = 0.25 m, l_max = Π l_min and
+    /// l_mid placed between them as in seed 001's rock of the class (table 2: cubic1.2
+    /// 0.38/0.36/0.31 → 0.71 of the way from l_min to l_max, flat2.2 0.48/0.42/0.22 → 0.77,
+    /// long2.2 0.55/0.31/0.25 → 0.20), so the class comes out as named.
+    pub fn dims_m(&self) -> [f64; 3] {
+        let l_min = 0.25;
+        let l_max = self.aspect_ratio * l_min;
+        let share = match self.class {
+            "cubic" => 0.71,
+            "flat" => 0.77,
+            _ => 0.20,
+        };
+        [l_max, l_min + share * (l_max - l_min), l_min]
+    }
 }
 
 #[cfg(test)]

@@ -28,7 +28,7 @@ pub use geometry::RockGeometry;
 pub use mass::{MassProperties, mass_properties, principal_axes};
 pub use named::{
     box_points, disc_points, ellipsoid_points, fibonacci_sphere_points, icosphere_unit_points,
-    natural_points, sphere_points,
+    natural_points, rough_points, sphere_points,
 };
 
 use std::path::PathBuf;

@@ -158,9 +158,53 @@ pub fn disc_points(dims_m: [f64; 3]) -> Vec<V3> {
         .collect()
 }
 
+/// Points of a rough rock (`rough-<class><Π>-<member>`) before the hull: [`ROUGH_POINT_COUNT`]
+/// directions drawn uniformly over the sphere (z uniform in [−1, 1], longitude uniform: the
+/// uniform measure on the sphere, Archimedes' hat-box theorem) from a hash of the name and the
+/// point's index, each radius perturbed by up to ±[`ROUGH_ROUGHNESS`]; then the hull's
+/// vertices, in its principal frame, scaled along each principal axis so that the hull spans
+/// the rock's dimensions there (a scaling along the principal axes keeps them principal), so Π
+/// and the class are exactly the named ones. Few, unevenly spread points and a large roughness make a
+/// faceted, asymmetric hull with flat faces and sharp edges, unlike the smooth ellipsoid-like
+/// stand-ins; the values are ours (no source gives a rock-roughness model for hulls), chosen
+/// so that the hull keeps Π and the class while its faces differ between members.
+pub fn rough_points(name: &str) -> Option<Vec<V3>> {
+    let rock = rockfall_scenario::rock::RoughRock::parse(name)?;
+    let seed = fnv1a(name.as_bytes());
+    let points: Vec<V3> = (0..ROUGH_POINT_COUNT as u64)
+        .map(|i| {
+            let z = unit_hash(seed, 3 * i);
+            let longitude = PI * unit_hash(seed, 3 * i + 1);
+            let r = (1.0 - z * z).sqrt();
+            let radius = 1.0 + ROUGH_ROUGHNESS * unit_hash(seed, 3 * i + 2);
+            V3::new(r * longitude.cos(), r * longitude.sin(), z) * radius
+        })
+        .collect();
+    let hull = super::RockGeometry::from_points(&points).ok()?;
+    // the longest principal extent takes l_max, the shortest l_min
+    let extents = hull.lengths_m;
+    let mut order = [0, 1, 2];
+    order.sort_by(|&a, &b| extents[b].total_cmp(&extents[a]));
+    let mut dims_m = [0.0; 3];
+    for (rank, &axis) in order.iter().enumerate() {
+        dims_m[axis] = rock.dims_m()[rank];
+    }
+    Some(fit_extents(&hull.vertices_m, dims_m))
+}
+
+/// Points drawn for a rough rock.
+pub const ROUGH_POINT_COUNT: usize = 60;
+
+/// Largest relative radius perturbation of a rough rock.
+pub const ROUGH_ROUGHNESS: f64 = 0.15;
+
 /// The synthetic stand-in for a natural rock of seed 001 table 2 (`cubic1.2`, `flat2.2`,
-/// `long2.2`; see the module documentation for how it is built); `None` for other names.
+/// `long2.2`; see the module documentation for how it is built), or a rough rock
+/// ([`rough_points`]); `None` for other names.
 pub fn natural_points(name: &str) -> Option<Vec<V3>> {
+    if let Some(points) = rough_points(name) {
+        return Some(points);
+    }
     let dims_m = rockfall_scenario::rock::named_dims(name)?;
     let seed = fnv1a(name.as_bytes());
     let golden_angle = PI * (3.0 - 5f64.sqrt());
