@@ -34,11 +34,13 @@ pub enum Command {
     },
     /// Simulate rocks on an input: a scenario file (*.toml) or a Rockyfor3D input folder.
     /// Writes the hazard rasters (GeoTIFF: Nr_passages, Reach_probability, Nr_deposited,
-    /// Nr_sourcecells, E_mean and E_<percentile> in kJ, Ph_mean and Ph_95 in m, V_max in m/s,
-    /// Nr_tree_impacts, Tree_impact_height_max in m) each with a QGIS style (.qml),
-    /// summary.json, trajectories.csv and .geojson, and report.html: an offline page with the
-    /// maps (report/map_*.png, over the hillshade), distribution and profile plots, and every
-    /// number of the run.
+    /// Nr_sourcecells, E_mean, E_<percentile> and E_95CI in kJ, Ph_mean, Ph_50, Ph_90, Ph_95
+    /// and Ph_95CI in m, EL_angles in degrees, V_max in m/s, Nr_tree_impacts,
+    /// Tree_impact_height_max in m, Nr_stems_broken) each with a QGIS style (.qml), a QGIS
+    /// project (rockfall.qgs), summary.json, trajectories.csv and .geojson, rocks.csv and
+    /// screen_crossings.csv when the scenario asks for them, and report.html: an offline page
+    /// with the maps (report/map_*.png, over the hillshade), distribution and profile plots,
+    /// and every number of the run.
     ///
     /// Regional runs: `--partition i/N` runs the i-th of N fixed shares of the rocks (a job
     /// of a job array) and also writes its exact tallies (rockfall.tally) for `rockfall
