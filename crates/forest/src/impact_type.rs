@@ -36,9 +36,15 @@ impl ImpactType {
     /// The type of an impact of relative eccentricity `x` (values above 1 are scratches; NaN
     /// is a scratch too).
     pub fn of(x: f64) -> ImpactType {
-        if x < FRONTAL_MAX {
+        ImpactType::with_bounds(x, FRONTAL_MAX, LATERAL_MAX)
+    }
+
+    /// The type of an impact of relative eccentricity `x` when the classes are cut elsewhere:
+    /// frontal below `frontal_below`, scratch from `scratch_from` on (NaN: scratch).
+    pub fn with_bounds(x: f64, frontal_below: f64, scratch_from: f64) -> ImpactType {
+        if x < frontal_below {
             ImpactType::Frontal
-        } else if x < LATERAL_MAX {
+        } else if x < scratch_from {
             ImpactType::Lateral
         } else {
             ImpactType::Scratch

@@ -5,7 +5,7 @@
 
 use std::collections::BTreeMap;
 
-use rockfall_raster::{Field, GridGeometry};
+use rockfall_raster::Field;
 use rockfall_scenario::{Nets, Screen};
 
 use crate::vector::inputs::NetLine;
@@ -41,22 +41,14 @@ pub(crate) fn line_screens(lines: &[NetLine]) -> Vec<Screen> {
 /// One screen per net id (> 0) of the `net_number` raster, in order of id, with the capacity
 /// and height of the net's first cell (row-major); without a line to draw.
 pub(crate) fn raster_screens(nets: &Nets) -> Vec<Screen> {
-    let geometry = [&nets.number, &nets.energy_kj, &nets.height_m]
-        .into_iter()
-        .find_map(|f| match f {
-            Field::Grid(g) => Some(*g.geometry()),
-            Field::Const(_) => None,
-        })
-        .unwrap_or(GridGeometry {
-            ncols: 1,
-            nrows: 1,
-            x_min_m: 0.0,
-            y_min_m: 0.0,
-            cell_size_m: 1.0,
-        });
+    // a constant id covers every cell: its first cell is (0, 0)
+    let (nrows, ncols) = match &nets.number {
+        Field::Grid(g) => (g.geometry().nrows, g.geometry().ncols),
+        Field::Const(_) => (1, 1),
+    };
     let mut first: BTreeMap<u32, (f64, f64)> = BTreeMap::new();
-    for row in 0..geometry.nrows {
-        for col in 0..geometry.ncols {
+    for row in 0..nrows {
+        for col in 0..ncols {
             let id = nets.number.at(row, col).unwrap_or(0.0);
             // validated later: ids are whole numbers in u32's range
             if id >= 1.0 && id <= f64::from(u32::MAX) && id.fract() == 0.0 {
@@ -76,7 +68,7 @@ pub(crate) fn raster_screens(nets: &Nets) -> Vec<Screen> {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use rockfall_raster::Grid;
+    use rockfall_raster::{Grid, GridGeometry};
 
     #[test]
     fn one_screen_per_net_id_with_its_limits() {

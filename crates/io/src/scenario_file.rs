@@ -443,7 +443,7 @@ impl Resolver {
     /// The nets and, with `screens = true`, one screen per net.
     fn nets(&mut self, n: schema::NetsSec) -> Result<(Nets, Vec<Screen>), InputError> {
         let with_screens = n.screens.unwrap_or(false);
-        match (n.lines, n.number, n.energy_kj, n.height_m) {
+        let (nets, lines) = match (n.lines, n.number, n.energy_kj, n.height_m) {
             (Some(r), None, None, None) => {
                 let (p, layer) = Self::layer_ref(r).map_err(|p| {
                     self.invalid(
@@ -461,16 +461,12 @@ impl Resolver {
                     self.sources.insert(key.into(), self.path(&p));
                 }
                 let [number, energy_kj, height_m] = inputs::net_grids(&lines, &frame);
-                let screens = match with_screens {
-                    true => crate::nets::line_screens(&lines),
-                    false => Vec::new(),
-                };
                 let nets = Nets {
                     number: Field::Grid(number),
                     energy_kj: Field::Grid(energy_kj),
                     height_m: Field::Grid(height_m),
                 };
-                Ok((nets, screens))
+                (nets, Some(lines))
             }
             (None, Some(number), Some(energy_kj), Some(height_m)) => {
                 let nets = Nets {
@@ -478,17 +474,22 @@ impl Resolver {
                     energy_kj: self.field("net_energy", Some(energy_kj), 0.0)?,
                     height_m: self.field("net_height", Some(height_m), 0.0)?,
                 };
-                let screens = match with_screens {
-                    true => crate::nets::raster_screens(&nets),
-                    false => Vec::new(),
-                };
-                Ok((nets, screens))
+                (nets, None)
             }
-            _ => Err(self.invalid(
-                "nets",
-                "give either `lines` (a line layer) or all of `number`, `energy_kj` and `height_m`",
-            )),
-        }
+            _ => {
+                return Err(self.invalid(
+                    "nets",
+                    "give either `lines` (a line layer) or all of `number`, `energy_kj` and \
+                     `height_m`",
+                ));
+            }
+        };
+        let screens = match (with_screens, &lines) {
+            (false, _) => Vec::new(),
+            (true, Some(lines)) => crate::nets::line_screens(lines),
+            (true, None) => crate::nets::raster_screens(&nets),
+        };
+        Ok((nets, screens))
     }
 
     fn lumped(&self, l: Option<schema::LumpedSec>) -> Result<LumpedSettings, InputError> {

@@ -109,13 +109,7 @@ impl ZetaThresholds {
     /// The regime of eccentricity `zeta_ct` under these bounds (NaN: scratch, as
     /// [`Regime::of`]).
     pub fn regime(&self, zeta_ct: f64) -> Regime {
-        if zeta_ct < self.frontal_below {
-            Regime::Frontal
-        } else if zeta_ct < self.scratch_from {
-            Regime::Lateral
-        } else {
-            Regime::Scratch
-        }
+        Regime::with_bounds(zeta_ct, self.frontal_below, self.scratch_from)
     }
 }
 

@@ -15,8 +15,8 @@
 //!   what the run was and which rocks it covers; see `rockfall-sim`).
 //! - The body, little-endian: per-rock statistics, screens, speed profile, per-cell
 //!   statistics sorted by cell, trajectory rows sorted by (rock, sequence), rock records
-//!   sorted by rock, screen-crossing records sorted by (rock, sequence). Histograms are stored as their non-empty bins. Floats are stored as
-//!   their bit patterns.
+//!   sorted by rock, screen-crossing records sorted by (rock, sequence). Histograms are
+//!   stored as their non-empty bins. Floats are stored as their bit patterns.
 //! - A closing `u64` FNV-1a checksum of everything before it, so that a truncated or
 //!   damaged file is refused rather than merged.
 //!

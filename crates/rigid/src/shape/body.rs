@@ -26,24 +26,23 @@ impl RockBody {
     /// kept: the hull scales by `factor^(1/3)`, the mass by `factor`, the principal moments
     /// (∝ ρ L⁵) by `factor^(5/3)`.
     pub fn with_volume_factor(&self, factor: f64) -> RockBody {
-        let geometry = self.geometry.scaled(factor.cbrt());
-        RockBody {
-            mass_kg: self.density_kg_m3 * geometry.volume_m3,
-            inertia_kgm2: geometry.inertia_per_density_m5 * self.density_kg_m3,
-            geometry,
-            density_kg_m3: self.density_kg_m3,
-        }
+        RockBody::homogeneous(self.geometry.scaled(factor.cbrt()), self.density_kg_m3)
     }
 
     /// The homogeneous rock of `geometry` and `density_kg_m3` (finite, positive).
     pub fn new(geometry: RockGeometry, density_kg_m3: f64) -> Result<RockBody, ShapeError> {
         let density_kg_m3 = positive("the rock density (kg/m³)", density_kg_m3)?;
-        Ok(RockBody {
+        Ok(RockBody::homogeneous(geometry, density_kg_m3))
+    }
+
+    /// Mass m = ρ V and moments Θ = ρ (Θ/ρ) of `geometry` at a checked density.
+    fn homogeneous(geometry: RockGeometry, density_kg_m3: f64) -> RockBody {
+        RockBody {
             mass_kg: density_kg_m3 * geometry.volume_m3,
             inertia_kgm2: geometry.inertia_per_density_m5 * density_kg_m3,
             geometry,
             density_kg_m3,
-        })
+        }
     }
 }
 

@@ -185,9 +185,10 @@ pub fn rough_points(name: &str) -> Option<Vec<V3>> {
     let extents = hull.lengths_m;
     let mut order = [0, 1, 2];
     order.sort_by(|&a, &b| extents[b].total_cmp(&extents[a]));
+    let wanted = rock.dims_m();
     let mut dims_m = [0.0; 3];
     for (rank, &axis) in order.iter().enumerate() {
-        dims_m[axis] = rock.dims_m()[rank];
+        dims_m[axis] = wanted[rank];
     }
     Some(fit_extents(&hull.vertices_m, dims_m))
 }
