@@ -22,6 +22,14 @@
 //! the tangent plane at the centre of mass and e the largest excess of the footprint's nodes
 //! over it, the whole ground under the rock's bounding ball lies below `plane + e`: when the
 //! ball clears that plane there is no contact and no vertex is looked at.
+//!
+//! **Clearance in flight.** When the ball clears, the same bound is taken once more over a
+//! wider footprint, reaching one DEM cell further on every side, and kept as a [`Clearance`]:
+//! as long as the centre stays within that reach of where it was taken and the ball clears the
+//! bound's plane, no point of the rock can touch the ground, and the following steps skip the
+//! detection (one comparison instead of the footprint's nodes). It is the same bound over a
+//! superset of the nodes, so the contacts found are exactly those found without it: results
+//! are bit-identical.
 
 use crate::math::{M3, V3};
 use crate::shape::RockGeometry;
@@ -29,6 +37,10 @@ use rockfall_terrain::{Lattice, SurfacePoint};
 
 /// Key of a contact feature for warm starting: a hull vertex, or a DEM node (high bit set).
 pub type FeatureKey = u64;
+
+/// Slack of the body-frame vertex filter, relative to the lengths involved (m per m): far above
+/// rounding, far below any gap that matters.
+const FILTER_TOLERANCE_M: f64 = 1e-9;
 
 /// High bit marking a DEM-node feature key.
 const NODE_BIT: u64 = 1 << 63;
@@ -53,6 +65,38 @@ pub enum Under {
     Surface(SurfacePoint),
     /// The centre of mass has left the DEM (its edge or a nodata patch).
     Off,
+}
+
+/// A region in which the rock's bounding ball cannot touch the ground (see the module
+/// documentation): the ground over the square of half side `reach_m` + the rock's
+/// circumradius around `anchor` lies below the plane `z = z_m + dzdx·dx + dzdy·dy + excess_m`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Clearance {
+    /// Where the bound was taken (x, y), m.
+    anchor_m: [f64; 2],
+    /// How far the centre may move from the anchor along x and y, m.
+    reach_m: f64,
+    /// Height of the tangent plane at the anchor, m, and its slopes.
+    z_m: f64,
+    dzdx: f64,
+    dzdy: f64,
+    /// Largest height of a node of the wide footprint over that plane, m.
+    excess_m: f64,
+    /// Vertical component of the plane's unit normal.
+    n_z: f64,
+}
+
+impl Clearance {
+    /// `true` when a ball of `radius_m` centred at `c` is within the reach and above the
+    /// bound: then no point of it touches the ground.
+    #[inline]
+    pub fn clears(&self, c: V3, radius_m: f64) -> bool {
+        let (dx, dy) = (c.x - self.anchor_m[0], c.y - self.anchor_m[1]);
+        dx.abs() <= self.reach_m
+            && dy.abs() <= self.reach_m
+            && (c.z - (self.z_m + self.dzdx * dx + self.dzdy * dy) - self.excess_m) * self.n_z
+                > radius_m
+    }
 }
 
 /// The terrain as the rigid engine sees it.
@@ -80,7 +124,9 @@ impl Ground {
     }
 
     /// Appends to `out` the contacts (gap ≤ 0) of the rock `geom` with its centre of mass at
-    /// `c` and rotation matrix `rot` (body → world); `s_c` is the ground under `c`.
+    /// `c` and rotation matrix `rot` (body → world); `s_c` is the ground under `c`. When the
+    /// rock's bounding ball clears the ground, returns a [`Clearance`] that later steps may
+    /// test instead of calling this again.
     pub fn contacts(
         &self,
         geom: &RockGeometry,
@@ -88,19 +134,25 @@ impl Ground {
         rot: &M3,
         s_c: &SurfacePoint,
         out: &mut Vec<GroundContact>,
-    ) {
+    ) -> Option<Clearance> {
         let radius = geom.circumradius_m;
         let plane = |x: f64, y: f64| s_c.z_m + s_c.dzdx * (x - c.x) + s_c.dzdy * (y - c.y);
         let excess = self.footprint_excess(c, radius, &plane);
         let n_z = s_c.normal()[2];
         if (c.z - plane(c.x, c.y) - excess) * n_z > radius {
-            return;
+            return self.clearance(c, radius, s_c, n_z);
         }
+        // Height of vertex v over the plane: (c.z − plane(c)) + (R v)·m with
+        // m = (−∂z/∂x, −∂z/∂y, 1), i.e. v·(Rᵀ m) in the body frame: one dot product per vertex
+        // picks the few that can touch before any is rotated. The tolerance keeps every vertex
+        // the world-frame test would keep despite rounding.
+        let m_body = rot.transpose() * V3::new(-s_c.dzdx, -s_c.dzdy, 1.0);
+        let cut = excess - (c.z - s_c.z_m) + FILTER_TOLERANCE_M * (1.0 + radius + excess.abs());
         for (k, v) in geom.vertices_m.iter().enumerate() {
-            let p = c + *rot * *v;
-            if p.z - plane(p.x, p.y) > excess {
+            if v.dot(m_body) > cut {
                 continue;
             }
+            let p = c + *rot * *v;
             let Some(s) = self.lattice.surface(p.x, p.y) else {
                 continue;
             };
@@ -116,6 +168,25 @@ impl Ground {
             }
         }
         self.node_contacts(geom, c, rot, out);
+        None
+    }
+
+    /// The [`Clearance`] of a ball of `radius` at `c`, reaching one cell around it, when the
+    /// ball clears the bound of that wider footprint.
+    fn clearance(&self, c: V3, radius: f64, s_c: &SurfacePoint, n_z: f64) -> Option<Clearance> {
+        let reach_m = self.lattice.cell_size_m();
+        let plane = |x: f64, y: f64| s_c.z_m + s_c.dzdx * (x - c.x) + s_c.dzdy * (y - c.y);
+        let excess_m = self.footprint_excess(c, radius + reach_m, &plane);
+        let clearance = Clearance {
+            anchor_m: [c.x, c.y],
+            reach_m,
+            z_m: s_c.z_m,
+            dzdx: s_c.dzdx,
+            dzdy: s_c.dzdy,
+            excess_m,
+            n_z,
+        };
+        clearance.clears(c, radius).then_some(clearance)
     }
 
     /// Largest height of a footprint node over `plane`, m (+∞ when a node is nodata).

@@ -122,6 +122,23 @@ pub fn cone_contact(geom: &RockGeometry, c: V3, q: Quat, cone: &Cone) -> Option<
     Some((point, normal, contact.dist))
 }
 
+/// `true` when a vertical plane separates the rock at (`c`, `q`) from `cone`: the plane
+/// facing the rock across the horizontal line from the cone's axis to the rock's centre. The
+/// rock reaches towards the axis no farther than its support point in that direction, and
+/// the cone no farther from its axis than its largest radius; when these leave a gap the two
+/// are apart and GJK need not run (a separating-axis test, as in seed 001's narrow phase).
+fn apart(geom: &RockGeometry, c: V3, q: Quat, cone: &Cone) -> bool {
+    let (dx, dy) = (c.x - cone.base_m.x, c.y - cone.base_m.y);
+    let distance_m = dx.hypot(dy);
+    if distance_m <= 0.0 {
+        return false;
+    }
+    let toward_axis = V3::new(-dx / distance_m, -dy / distance_m, 0.0);
+    let toward_axis_body = q.inverse() * toward_axis;
+    let reach_m = geom.support(toward_axis_body).dot(toward_axis_body);
+    distance_m - reach_m > cone.r0_m.max(cone.r1_m)
+}
+
 /// The forest as cones, with the stem index for the broad phase.
 #[derive(Debug, Clone)]
 pub struct Stand<'f> {
@@ -169,7 +186,8 @@ impl<'f> Stand<'f> {
             .for_each_near_point(c.x, c.y, radius + 0.02, |hit| {
                 let cone = &self.cones[hit.index];
                 let z0 = cone.base_m.z;
-                if !(c.z - radius <= z0 + cone.h_m && c.z + radius >= z0) {
+                if !(c.z - radius <= z0 + cone.h_m && c.z + radius >= z0) || apart(geom, c, q, cone)
+                {
                     return;
                 }
                 if let Some((point, normal, gap)) = cone_contact(geom, c, q, cone) {

@@ -23,7 +23,7 @@
 //! `μ(s) = μ_min + (2/π)(μ_max − μ_min)·atan(κ s)` with `ṡ = |v|` while the rock touches the
 //! ground and `ṡ = −β s` in flight.
 
-use crate::ground::{Ground, GroundContact, Under};
+use crate::ground::{Clearance, Ground, GroundContact, Under};
 use crate::math::{M3, Quat, V3, finite};
 use crate::rotation::{free_rotation_step, inverse_inertia_world, rotate};
 use crate::shape::RockBody;
@@ -90,6 +90,8 @@ pub struct StepScratch {
     contacts: Vec<Contact>,
     keys: Vec<u64>,
     previous: Vec<(u64, V3)>,
+    /// Where the rock cannot touch the ground, from an earlier step ([`Clearance`]).
+    clearance: Option<Clearance>,
     /// Slippage s of the current rock, m.
     pub slippage_m: f64,
     /// Counts over every step taken with this scratch.
@@ -129,6 +131,7 @@ impl StepScratch {
     /// Forgets the previous rock.
     pub fn reset(&mut self) {
         self.previous.clear();
+        self.clearance = None;
         self.slippage_m = 0.0;
     }
 
@@ -180,7 +183,10 @@ pub fn step(
     scratch.stems.clear();
     let under = ground.under(r_m.x, r_m.y);
     if let Under::Surface(s) = &under {
-        ground.contacts(geom, r_m, &rot, s, &mut scratch.ground);
+        let clear = (scratch.clearance).is_some_and(|c| c.clears(r_m, geom.circumradius_m));
+        if !clear {
+            scratch.clearance = ground.contacts(geom, r_m, &rot, s, &mut scratch.ground);
+        }
     }
     if let Some(stand) = stand {
         stand.contacts(geom, r_m, q_m, &mut scratch.stems);

@@ -236,3 +236,80 @@ fn single_raised_node_holds_the_rock_up() {
         }
     }
 }
+
+/// The flight clearance is conservative: on a bumpy DEM, wherever a [`Clearance`] taken at one
+/// pose of the rock says a nearby pose clears the ground, contact detection at that pose finds
+/// nothing and every hull vertex is above the surface. Poses are spread so that the clearance
+/// is both built and used, and also refused (the assertions count each case).
+#[test]
+fn flight_clearance_never_hides_a_contact() {
+    use rockfall_rigid::ground::Under;
+    let body = cubic_rock();
+    let geom = &body.geometry;
+    let ground = ground_from(square(12.0, 1.0), |x, y| {
+        0.4 * (1.3 * x).sin() * (0.9 * y).cos() + 0.25 * (2.7 * y + 0.5 * x).sin() - 0.3 * y
+    });
+    let mut hash = 0x2545_f491_4f6c_dd1du64;
+    let mut uniform = move |lo: f64, hi: f64| {
+        hash ^= hash << 13;
+        hash ^= hash >> 7;
+        hash ^= hash << 17;
+        lo + (hi - lo) * (hash >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut built, mut used, mut refused) = (0, 0, 0);
+    let mut out = Vec::new();
+    for _ in 0..3000 {
+        let (x, y) = (uniform(-7.0, 7.0), uniform(-7.0, 7.0));
+        let Under::Surface(s) = ground.under(x, y) else {
+            continue;
+        };
+        let c = V3::new(x, y, s.z_m + uniform(0.0, 1.5));
+        let q = Quat::from_axis_angle(V3::new(uniform(-1.0, 1.0), 0.3, 1.0).normalize(), 2.0);
+        out.clear();
+        let Some(clearance) = ground.contacts(
+            geom,
+            c,
+            &rockfall_rigid::math::M3::from_quat(q),
+            &s,
+            &mut out,
+        ) else {
+            continue;
+        };
+        assert!(out.is_empty(), "a clearance with contacts at {c}");
+        built += 1;
+        for _ in 0..20 {
+            let d = V3::new(uniform(-1.2, 1.2), uniform(-1.2, 1.2), uniform(-1.5, 0.5));
+            let c2 = c + d;
+            if !clearance.clears(c2, geom.circumradius_m) {
+                refused += 1;
+                continue;
+            }
+            used += 1;
+            let q2 = Quat::from_axis_angle(
+                V3::new(0.2, uniform(-1.0, 1.0), 0.7).normalize(),
+                uniform(0.0, 6.0),
+            );
+            let rot = rockfall_rigid::math::M3::from_quat(q2);
+            let Under::Surface(s2) = ground.under(c2.x, c2.y) else {
+                continue;
+            };
+            out.clear();
+            ground.contacts(geom, c2, &rot, &s2, &mut out);
+            assert!(out.is_empty(), "cleared at {c2} but {} contacts", out.len());
+            for v in &geom.vertices_m {
+                let p = c2 + rot * *v;
+                if let Some(h) = ground.lattice().height_m(p.x, p.y) {
+                    assert!(
+                        p.z > h,
+                        "cleared at {c2} but a vertex is {} m deep",
+                        h - p.z
+                    );
+                }
+            }
+        }
+    }
+    assert!(
+        built > 500 && used > 2000 && refused > 2000,
+        "{built} built, {used} used, {refused} refused"
+    );
+}

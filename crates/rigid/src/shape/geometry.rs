@@ -1,5 +1,6 @@
 //! The convex polyhedral rock in its principal frame.
 
+use super::support::VertexGraph;
 use super::{MassProperties, ShapeClass, ShapeError, mass_properties, positive, principal_axes};
 use crate::math::{Quat, V3, finite};
 use parry3d_f64::transformation::try_convex_hull;
@@ -38,6 +39,8 @@ pub struct RockGeometry {
     pub to_body: Quat,
     /// Centre of mass in the input coordinates, m.
     pub centroid_m: V3,
+    /// Vertex neighbours, for the support function.
+    pub graph: VertexGraph,
 }
 
 impl RockGeometry {
@@ -109,6 +112,7 @@ impl RockGeometry {
             hi - lo
         });
         RockGeometry {
+            graph: VertexGraph::new(&vertices_m, &triangles),
             vertices_m,
             triangles,
             planes,
@@ -165,18 +169,9 @@ impl RockGeometry {
             .fold(f64::NEG_INFINITY, f64::max)
     }
 
-    /// The vertex (in K) that maximises dir·v; on ties the one with the lowest index.
+    /// The vertex (in K) that maximises dir·v, by hill climbing ([`VertexGraph`]).
     pub fn support(&self, dir: V3) -> V3 {
-        let mut best = self.vertices_m[0];
-        let mut best_dot = dir.dot(best);
-        for &v in &self.vertices_m[1..] {
-            let d = dir.dot(v);
-            if d > best_dot {
-                best = v;
-                best_dot = d;
-            }
-        }
-        best
+        self.vertices_m[self.graph.support_index(&self.vertices_m, dir)]
     }
 }
 

@@ -21,6 +21,7 @@ mod class;
 mod geometry;
 mod mass;
 pub mod named;
+mod support;
 
 pub use body::{RockBody, body_from_spec};
 pub use class::ShapeClass;
@@ -30,6 +31,7 @@ pub use named::{
     box_points, disc_points, ellipsoid_points, fibonacci_sphere_points, icosphere_unit_points,
     natural_points, rough_points, sphere_points,
 };
+pub use support::VertexGraph;
 
 use std::path::PathBuf;
 
