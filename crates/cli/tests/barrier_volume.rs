@@ -185,3 +185,38 @@ fn a_variation_outside_0_to_100_is_refused_naming_the_key() {
         );
     }
 }
+
+/// `[rock] mass_kg` sets the volume at the density: every rock of `rocks.csv` weighs it; with
+/// `volume_m3` as well, a mass ≤ 0 or NaN, or a density raster, the run is refused naming the
+/// key.
+#[test]
+fn a_mass_sets_the_volume() {
+    let (tmp, dir) = site();
+    let base = std::fs::read_to_string(scenario(&dir, "base.toml", None)).unwrap();
+    let with = |name: &str, keys: &str| {
+        let path = dir.join(name);
+        std::fs::write(
+            &path,
+            base.replace("\n[rock]\n", &format!("\n[rock]\n{keys}\n")),
+        )
+        .unwrap();
+        path
+    };
+    let out = tmp.path().join("mass");
+    run(&with("mass.toml", "mass_kg = 1200.0"), &out);
+    let rows = csv(&out.join("rocks.csv"));
+    assert!(!rows.is_empty());
+    for r in &rows {
+        let (m, v) = (num(r, "mass_kg"), num(r, "volume_m3"));
+        assert!((m - 1200.0).abs() < 1e-6 * 1200.0, "mass {m}");
+        assert!((v - 1200.0 / 2800.0).abs() < 1e-9, "volume {v}");
+    }
+    for (keys, named) in [
+        ("mass_kg = 1200.0\nvolume_m3 = 0.4", "rock"),
+        ("mass_kg = -3.0", "rock.mass_kg"),
+        ("mass_kg = nan", "rock.mass_kg"),
+    ] {
+        let bad = with("bad.toml", keys);
+        common::bad_input(rockfall(&["check", s(&bad)]), &["bad.toml", named]);
+    }
+}

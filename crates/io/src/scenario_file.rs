@@ -288,9 +288,15 @@ impl Resolver {
                     )),
                 }
             };
-        let volume_m3 = match (&shape, r.volume_m3) {
-            (RockShape::Named(_), None) => Some(rockfall_scenario::rock::SEED_001_VOLUME_M3),
-            (_, v) => v,
+        let volume_m3 = match (&shape, r.volume_m3, r.mass_kg) {
+            (_, Some(_), Some(_)) => {
+                return Err(self.invalid("rock", "give `volume_m3` or `mass_kg`, not both"));
+            }
+            (_, None, Some(m)) => Some(self.volume_of_mass(m, &density)?),
+            (RockShape::Named(n), None, None) => {
+                Some(rockfall_scenario::rock::default_volume_m3(n))
+            }
+            (_, v, None) => v,
         };
         if matches!(shape, RockShape::Block(BlockShape::Spherical))
             && r.dims_m.is_some_and(|d| d[0] != d[1] || d[1] != d[2])
@@ -314,6 +320,20 @@ impl Resolver {
             density_kg_m3: density,
             volume_variation_percent: variation,
         })
+    }
+
+    /// The volume of a rock of `mass_kg` at the scenario's density (a constant), m³.
+    fn volume_of_mass(&self, mass_kg: f64, density: &Field) -> Result<f64, InputError> {
+        if !(mass_kg.is_finite() && mass_kg > 0.0) {
+            return Err(self.invalid("rock.mass_kg", format!("{mass_kg} kg: a mass is > 0")));
+        }
+        match density {
+            Field::Const(rho) => Ok(mass_kg / rho),
+            _ => Err(self.invalid(
+                "rock.mass_kg",
+                "a mass needs one density: give `density_kg_m3` as a number, or give `volume_m3`",
+            )),
+        }
     }
 
     fn release(&mut self, r: schema::ReleaseSec, terrain: &Terrain) -> Result<Release, InputError> {

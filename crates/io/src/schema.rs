@@ -87,6 +87,8 @@ pub struct RockSec {
     pub d2_m: Option<Param>,
     pub d3_m: Option<Param>,
     pub volume_m3: Option<f64>,
+    /// Rock mass, kg: the shape is rescaled to mass / density (a constant density).
+    pub mass_kg: Option<f64>,
     pub density_kg_m3: Option<Param>,
     pub volume_variation_percent: Option<f64>,
 }

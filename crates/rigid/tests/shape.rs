@@ -499,3 +499,84 @@ fn hill_climbing_support_finds_the_extreme_vertex() {
         }
     }
 }
+
+/// The EOTA test blocks against the figures they are rebuilt from (`eota_points`): 24
+/// vertices; at 1 m³ the bounding boxes of the Chant Sura shape files, 1.122 m cubed and
+/// 1.4136 × 1.4136 × 0.7068 m (to their rounding); 17/24 of the box filled; Π 1 (cubic) and
+/// 2 (flat); and scaled by a volume or a mass at a density.
+#[test]
+fn eota_blocks_match_their_published_extents() {
+    use rockfall_rigid::shape::eota_points;
+    for (name, extents, aspect, class) in [
+        ("eota111", [1.122, 1.122, 1.122], 1.0, ShapeClass::Cubic),
+        ("eota221", [1.4136, 1.4136, 0.7068], 2.0, ShapeClass::Flat),
+    ] {
+        let points = eota_points(name).unwrap();
+        assert_eq!(points.len(), 24, "{name}");
+        let g = RockGeometry::from_points(&points).unwrap();
+        assert_eq!(
+            g.vertices_m.len(),
+            24,
+            "{name}: every point is a hull vertex"
+        );
+        assert!(close(g.volume_m3, 1.0, 1e-12), "{name}: {} m³", g.volume_m3);
+        let box_m3: f64 = g.lengths_m.iter().product();
+        assert!(
+            close(g.volume_m3 / box_m3, 17.0 / 24.0, 1e-12),
+            "{name}: fill"
+        );
+        let mut got = g.lengths_m;
+        got.sort_by(|a, b| b.total_cmp(a));
+        for (l, want) in got.iter().zip(extents) {
+            assert!(
+                (l - want).abs() < 6e-4,
+                "{name}: extents {got:?}, file {extents:?}"
+            );
+        }
+        assert!(
+            close(g.aspect_ratio(), aspect, 1e-9),
+            "{name}: Π {}",
+            g.aspect_ratio()
+        );
+        assert_eq!(g.class(), class, "{name}");
+        // by name, through the scenario: 800 kg at 2500 kg/m³ is 0.32 m³
+        let spec = RockSpec::named(name, Some(800.0 / 2500.0), 2500.0).unwrap();
+        let body = body_from_spec(&spec).unwrap();
+        assert!(
+            close(body.mass_kg, 800.0, 1e-12),
+            "{name}: {} kg",
+            body.mass_kg
+        );
+        assert!(
+            close(body.geometry.aspect_ratio(), aspect, 1e-9),
+            "{name} scaled"
+        );
+        let default = body_from_spec(&RockSpec::named(name, None, 2500.0).unwrap()).unwrap();
+        assert!(
+            close(default.geometry.volume_m3, 1.0, 1e-12),
+            "{name}: default 1 m³"
+        );
+    }
+}
+
+/// Equal principal moments leave the principal axes to the input axes: a cube, a sphere-like
+/// icosphere and a square plate keep x, y, z, so their extents are their edges.
+#[test]
+fn degenerate_principal_axes_follow_the_input_axes() {
+    for (points, want) in [
+        (box_points([1.0, 1.0, 1.0]), [1.0, 1.0, 1.0]),
+        (box_points([2.0, 2.0, 0.5]), [2.0, 2.0, 0.5]),
+        (box_points([0.5, 2.0, 2.0]), [0.5, 2.0, 2.0]),
+    ] {
+        let g = RockGeometry::from_points(&points).unwrap();
+        let mut got = g.lengths_m;
+        got.sort_by(f64::total_cmp);
+        let mut want = want;
+        want.sort_by(f64::total_cmp);
+        for (a, b) in got.iter().zip(want) {
+            assert!(close(*a, b, 1e-9), "{got:?} vs {want:?}");
+        }
+        let m = g.inertia_per_density_m5;
+        assert!(m.x <= m.y && m.y <= m.z, "ascending: {m}");
+    }
+}

@@ -65,12 +65,47 @@ impl BlockShape {
     }
 }
 
-/// Natural rock shapes of seed 001 (table 2), scaled to a requested volume.
-pub const NAMED_SHAPES: [(&str, [f64; 3]); 3] = [
+/// Named rock shapes and their extents (x, y, z) before scaling to a volume, m: the natural
+/// rocks of seed 001 (table 2) and the EOTA test blocks of EAD 340059-00-0106 (at 1 m³).
+pub const NAMED_SHAPES: [(&str, [f64; 3]); 5] = [
     ("cubic1.2", [0.38, 0.36, 0.31]),
     ("flat2.2", [0.48, 0.42, 0.22]),
     ("long2.2", [0.55, 0.31, 0.25]),
+    ("eota111", [EOTA111_EDGE_M, EOTA111_EDGE_M, EOTA111_EDGE_M]),
+    (
+        "eota221",
+        [
+            2.0 * EOTA221_SHORT_M,
+            2.0 * EOTA221_SHORT_M,
+            EOTA221_SHORT_M,
+        ],
+    ),
 ];
+
+/// Edge of the bounding cube of the 1 m³ EOTA₁₁₁ block, m: (24/17)^(1/3), since the block
+/// fills 17/24 of its cube (see `rockfall_rigid::shape::named::eota_points`). The Chant Sura
+/// shape file `1m3_EOTA_111_cube.pts` (Caviezel et al. 2020, EnviDat,
+/// doi:10.16904/envidat.174) spans 1.122 m, this edge rounded to the millimetre.
+pub const EOTA111_EDGE_M: f64 = 1.121_813_787_760_367;
+
+/// Short side of the bounding box (2:2:1) of the 1 m³ EOTA₂₂₁ block, m: (24/68)^(1/3). The
+/// Chant Sura file `1m3_EOTA_221_plate.pts` spans 1.4136 × 1.4136 × 0.7068 m: the same box
+/// volume as its 1.122 m cube, i.e. the EOTA₁₁₁ block stretched 2:2:1.
+pub const EOTA221_SHORT_M: f64 = 0.706_698_402_630_793_1;
+
+/// Volume of the EOTA blocks as the Chant Sura shape files give them, m³: the default for
+/// `eota111` and `eota221` (scale them with `volume_m3` or `mass_kg`).
+pub const EOTA_VOLUME_M3: f64 = 1.0;
+
+/// The volume a named shape takes when the scenario gives none, m³: 1 m³ for the EOTA
+/// blocks, seed 001's 0.02 m³ for its rocks and the rough rocks.
+pub fn default_volume_m3(name: &str) -> f64 {
+    if name.starts_with("eota") {
+        EOTA_VOLUME_M3
+    } else {
+        SEED_001_VOLUME_M3
+    }
+}
 
 /// Volume of the seed 001 rocks (table 1), m³: the default for named shapes.
 pub const SEED_001_VOLUME_M3: f64 = 0.02;
@@ -125,8 +160,8 @@ impl RockShape {
             Some("xyz" | "csv" | "txt" | "obj" | "ply" | "stl") => Ok(RockShape::File(s.into())),
             _ => Err(format!(
                 "unknown shape `{s}` (expected sphere, box, ellipsoid, disc, cubic1.2, flat2.2, \
-                 long2.2, a rough rock such as rough-flat2.2-7, or a .xyz/.csv/.obj/.ply/.stl \
-                 file)"
+                 long2.2, eota111, eota221, a rough rock such as rough-flat2.2-7, or a \
+                 .xyz/.csv/.obj/.ply/.stl file)"
             )),
         }
     }
@@ -179,14 +214,14 @@ impl RockSpec {
         }
     }
 
-    /// A named seed 001 shape (`cubic1.2`, …) or rough rock (`rough-flat2.2-7`, see
-    /// [`RoughRock`]) of `volume_m3` (default 0.02 m³).
+    /// A named shape (`cubic1.2`, …, `eota111`, `eota221`) or rough rock (`rough-flat2.2-7`,
+    /// see [`RoughRock`]) of `volume_m3` (default [`default_volume_m3`]).
     pub fn named(name: &str, volume_m3: Option<f64>, density_kg_m3: f64) -> Option<Self> {
         let dims = named_dims(name)?;
         Some(RockSpec {
             shape: RockShape::Named(name.into()),
             dims_m: dims.map(Field::Const),
-            volume_m3: Some(volume_m3.unwrap_or(SEED_001_VOLUME_M3)),
+            volume_m3: Some(volume_m3.unwrap_or_else(|| default_volume_m3(name))),
             density_kg_m3: Field::Const(density_kg_m3),
             volume_variation_percent: 0.0,
         })

@@ -347,8 +347,8 @@ pub struct Prepared<'a> {
 }
 
 enum PreparedPlan<'a> {
-    Lumped(Plan<LumpedModel<'a>>),
-    Rigid(Plan<RigidModel<'a>>),
+    Lumped(Box<Plan<LumpedModel<'a>>>),
+    Rigid(Box<Plan<RigidModel<'a>>>),
 }
 
 impl<'a> Prepared<'a> {
@@ -363,7 +363,7 @@ impl<'a> Prepared<'a> {
                 let model = LumpedModel::new(scenario, forest).map_err(bad)?;
                 let plan = Plan::new(model, scenario).map_err(bad)?;
                 let parameters = Parameters::Lumped(parameters::lumped(scenario, &plan));
-                (PreparedPlan::Lumped(plan), parameters)
+                (PreparedPlan::Lumped(Box::new(plan)), parameters)
             }
             EngineKind::Rigid => {
                 let bad = |e: rockfall_rigid::RigidError| {
@@ -372,7 +372,7 @@ impl<'a> Prepared<'a> {
                 let model = RigidModel::new(scenario, forest).map_err(bad)?;
                 let plan = Plan::new(model, scenario).map_err(bad)?;
                 let parameters = Parameters::Rigid(parameters::rigid(scenario, plan.engine()));
-                (PreparedPlan::Rigid(plan), parameters)
+                (PreparedPlan::Rigid(Box::new(plan)), parameters)
             }
         };
         let info = RunInfo {

@@ -106,10 +106,58 @@ pub fn principal_axes(inertia: M3) -> (V3, M3) {
             axes[j] = -axes[j];
         }
     }
+    let (axes, equal) = settle_degenerate_axes(axes, moments);
+    let mut moments = axes.map(|e| e.dot(inertia * e));
+    // equal moments stay equal (and so ascending) whatever the rounding of the new axes
+    for group in [&[0, 1, 2][..], &[0, 1], &[1, 2]] {
+        if equal == group {
+            let mean = group.iter().map(|&k| moments[k]).sum::<f64>() / group.len() as f64;
+            group.iter().for_each(|&k| moments[k] = mean);
+        }
+    }
     (
         V3::from_array(moments),
         M3::from_cols(axes[0], axes[1], axes[2]),
     )
+}
+
+/// Relative difference under which two principal moments count as equal.
+const EQUAL_MOMENTS: f64 = 1e-9;
+
+/// Where principal moments are equal the axes within their plane (or all three, for an
+/// isotropic body) are not determined by the tensor, and the solver's choice is arbitrary.
+/// They are then taken as close as possible to the input axes x, y, z: for an axisymmetric
+/// body the input axis most nearly in the plane of the double moment, projected into it; for
+/// an isotropic one the input axes themselves. A block built along x, y, z (a cube, the EOTA
+/// blocks of EAD 340059-00-0106) thus keeps its edges along K and its extents
+/// ([`super::RockGeometry::lengths_m`]) are its edges, not some diagonal.
+/// Returns the axes and which moments are equal.
+fn settle_degenerate_axes(axes: [V3; 3], moments: [f64; 3]) -> ([V3; 3], &'static [usize]) {
+    let tol = EQUAL_MOMENTS * moments[2].abs();
+    let (low, high) = (
+        moments[1] - moments[0] <= tol,
+        moments[2] - moments[1] <= tol,
+    );
+    let most_in_plane = |normal: V3| {
+        [V3::X, V3::Y, V3::Z]
+            .into_iter()
+            .min_by(|a, b| a.dot(normal).abs().total_cmp(&b.dot(normal).abs()))
+            .map_or(V3::X, |u| (u - u.dot(normal) * normal).normalize())
+    };
+    match (low, high) {
+        (true, true) => ([V3::X, V3::Y, V3::Z], &[0, 1, 2]),
+        (true, false) => {
+            let e3 = axes[2];
+            let e1 = most_in_plane(e3);
+            ([e1, e3.cross(e1), e3], &[0, 1])
+        }
+        (false, true) => {
+            let e1 = axes[0];
+            let e2 = most_in_plane(e1);
+            ([e1, e2, e1.cross(e2)], &[1, 2])
+        }
+        (false, false) => (axes, &[]),
+    }
 }
 
 #[cfg(test)]

@@ -28,8 +28,8 @@ pub use class::ShapeClass;
 pub use geometry::RockGeometry;
 pub use mass::{MassProperties, mass_properties, principal_axes};
 pub use named::{
-    box_points, disc_points, ellipsoid_points, fibonacci_sphere_points, icosphere_unit_points,
-    natural_points, rough_points, sphere_points,
+    box_points, disc_points, ellipsoid_points, eota_points, fibonacci_sphere_points,
+    icosphere_unit_points, natural_points, rough_points, sphere_points,
 };
 pub use support::VertexGraph;
 

@@ -193,6 +193,42 @@ pub fn rough_points(name: &str) -> Option<Vec<V3>> {
     Some(fit_extents(&hull.vertices_m, dims_m))
 }
 
+/// The 24 vertices of an EOTA test block (`eota111`, `eota221`; EAD 340059-00-0106, the blocks
+/// of Caviezel et al. 2021 and Leine et al. 2021) at 1 m³, edges along x, y, z; `None` for
+/// other names.
+///
+/// **EOTA₁₁₁** is a cube of edge L whose six faces each keep a central square of side L/2,
+/// its twelve edges bevelled and its eight corners cut by triangles: the hull of the 24
+/// points with one coordinate ±L/2 and the other two ±L/4 (a rhombicuboctahedron stretched
+/// along the axes). It fills 17/24 of its cube, so 1 m³ has L = (24/17)^(1/3) = 1.1218 m.
+/// **EOTA₂₂₁** is the same block stretched to 2:2:1 (a plate or "wheel").
+///
+/// Source and how it was rebuilt: the Chant Sura experiment's shape files (Caviezel et al.
+/// 2020, "Induced Rockfall Dataset #2 (Chant Sura)", EnviDat, doi:10.16904/envidat.174),
+/// `1m3_EOTA_111_cube.pts` and `1m3_EOTA_221_plate.pts`, have 24 points each, spanning
+/// 1.122³ m and 1.4136 × 1.4136 × 0.7068 m for 1 m³. The text of the standard was not in
+/// reach. A 24-vertex polyhedron with the cube's symmetry that fills 1/1.122³ = 0.708 of its
+/// box is this one (17/24 = 0.7083; a cube with only its corners cut has 24 vertices too, but
+/// fills at least 5/6 of its box), and its faces — a square on each face of the cube — are
+/// those of the EOTA block drawings. The coordinates themselves are our reconstruction.
+pub fn eota_points(name: &str) -> Option<Vec<V3>> {
+    let dims = match name {
+        "eota111" | "eota221" => rockfall_scenario::rock::named_dims(name)?,
+        _ => return None,
+    };
+    let half = V3::from_array(dims) / 2.0;
+    let mut points = Vec::with_capacity(24);
+    for axis in 0..3 {
+        for corner in 0..8 {
+            let sign = |bit: u32| if corner & (1 << bit) == 0 { -1.0 } else { 1.0 };
+            let mut p = V3::new(sign(0), sign(1), sign(2)) * 0.5;
+            p[axis] *= 2.0;
+            points.push(p * half);
+        }
+    }
+    Some(points)
+}
+
 /// Points drawn for a rough rock.
 pub const ROUGH_POINT_COUNT: usize = 60;
 
@@ -200,10 +236,10 @@ pub const ROUGH_POINT_COUNT: usize = 60;
 pub const ROUGH_ROUGHNESS: f64 = 0.15;
 
 /// The synthetic stand-in for a natural rock of seed 001 table 2 (`cubic1.2`, `flat2.2`,
-/// `long2.2`; see the module documentation for how it is built), or a rough rock
-/// ([`rough_points`]); `None` for other names.
+/// `long2.2`; see the module documentation for how it is built), a rough rock
+/// ([`rough_points`]) or an EOTA block ([`eota_points`]); `None` for other names.
 pub fn natural_points(name: &str) -> Option<Vec<V3>> {
-    if let Some(points) = rough_points(name) {
+    if let Some(points) = rough_points(name).or_else(|| eota_points(name)) {
         return Some(points);
     }
     let dims_m = rockfall_scenario::rock::named_dims(name)?;
