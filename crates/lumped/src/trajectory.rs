@@ -207,6 +207,7 @@ impl Rock<'_, '_, '_> {
             rebounds: self.rebounds,
             time_s: self.t,
             events,
+            motion: Default::default(),
         });
     }
 

@@ -73,7 +73,7 @@ pub use persist::{
 pub use profile::ProfileBin;
 pub use results::{RasterCells, Results, RunInfo};
 pub use screens::ScreenSet;
-pub use summary::{MeanP95Max, Outcomes, Runout, ScreenSummary, Summary, TimeStats};
+pub use summary::{MeanP95Max, MotionShares, Outcomes, Runout, ScreenSummary, Summary, TimeStats};
 pub use tally::Tally;
 pub use write::{CROSSINGS_HEADER, ROCKS_HEADER, ResultsError, TRAJECTORY_HEADER, write_json};
 
@@ -96,7 +96,7 @@ pub struct Layout {
     /// Rocks with `rock_id < trajectories` have their trajectory recorded.
     pub trajectories: u64,
     /// Keep one [`RockRecord`] per rock (start, outcome, maxima) and write `rocks.csv`.
-    /// Memory then grows with the number of rocks: one record (136 bytes) per rock.
+    /// Memory then grows with the number of rocks: one record (176 bytes) per rock.
     pub rock_ends: bool,
     /// Keep one record per screen crossing and write `screen_crossings.csv`
     /// (`[output] screen_crossings`). Memory then grows with the crossings: 72 bytes each.
@@ -271,9 +271,65 @@ pub struct RockEnd {
     pub time_s: f64,
     /// Events the engine simulated for this rock: flight arcs and rolling steps (lumped),
     /// time steps (rigid). Their rate is the engine's cost per unit of path; trajectories/s
-    /// also depend on how long the paths are. (32 bits keep a [`RockRecord`] at 136 bytes.)
+    /// also depend on how long the paths are.
     pub events: u32,
+    /// How the rock moved, s (rigid engine; all zero for the lumped engine).
+    pub motion: Motion,
 }
+
+/// The time a rigid rock spent in each mode of motion, s. Each time step is one mode, judged
+/// after its contact impulses (the rule is ours: the papers name the modes without a
+/// numerical test):
+///
+/// - **flight**: no ground contact;
+/// - **slow**: ground contact with the centre slower than the stop speed (settling);
+/// - **rolling**: ground contact where the contact points slip slower than half the centre's
+///   speed — the hull turns over the ground more than it slides (on an edge or a vertex this is
+///   the wheel-like rolling of flat rocks, Caviezel et al. 2021);
+/// - **sliding on a face**: the contact points slip at half the centre's speed or more on three
+///   or more contacts (a face on the ground);
+/// - **sliding on an edge**: the same on one or two contacts (an edge or a vertex).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Motion {
+    /// In flight, s.
+    pub flight_s: f64,
+    /// Rolling, s.
+    pub rolling_s: f64,
+    /// Sliding on a face, s.
+    pub sliding_face_s: f64,
+    /// Sliding on an edge or a vertex, s.
+    pub sliding_edge_s: f64,
+    /// In slow ground contact, s.
+    pub slow_s: f64,
+}
+
+impl Motion {
+    /// The times in the order of [`MOTION_NAMES`], s.
+    pub fn as_array(&self) -> [f64; 5] {
+        [
+            self.flight_s,
+            self.rolling_s,
+            self.sliding_face_s,
+            self.sliding_edge_s,
+            self.slow_s,
+        ]
+    }
+
+    /// The motion of times in the order of [`MOTION_NAMES`], s.
+    pub fn from_array(t: [f64; 5]) -> Motion {
+        Motion {
+            flight_s: t[0],
+            rolling_s: t[1],
+            sliding_face_s: t[2],
+            sliding_edge_s: t[3],
+            slow_s: t[4],
+        }
+    }
+}
+
+/// Names of the modes of [`Motion`], as keys of `summary.json` `motion` and, with `_s`,
+/// columns of `rocks.csv`.
+pub const MOTION_NAMES: [&str; 5] = ["flight", "rolling", "sliding_face", "sliding_edge", "slow"];
 
 /// One rock's run: where it started and how it ended (kept when `Layout::rock_ends`).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -35,12 +35,12 @@ use crate::codec::{Dec, DecodeError, Enc, fnv1a};
 use crate::hist::{ENERGY_BINS, SHORT_BINS, Stat};
 use crate::profile::SpeedHistogram;
 use crate::{
-    CrossingRecord, Elevation, Event, Layout, Outcome, RockEnd, RockRecord, RunInfo,
+    CrossingRecord, Elevation, Event, Layout, Motion, Outcome, RockEnd, RockRecord, RunInfo,
     ScreenCrossing, Tally, TrajectoryRow,
 };
 
 /// Version of the tally file format this build reads and writes.
-pub const TALLY_FORMAT: u32 = 3;
+pub const TALLY_FORMAT: u32 = 4;
 
 /// File name of a run folder's exact tallies.
 pub const TALLY_FILE: &str = "rockfall.tally";
@@ -311,6 +311,9 @@ fn body(e: &mut Enc, t: &Tally) {
     for n in [r.tree_impacts, r.stems_broken, r.rebounds, r.events] {
         e.u64(n);
     }
+    for &n in &r.motion_us {
+        e.u64(n);
+    }
     e.len(t.screens.len());
     for s in &t.screens {
         e.u64(s.rocks);
@@ -415,6 +418,9 @@ fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeError> {
         &mut r.rebounds,
         &mut r.events,
     ] {
+        *n = d.u64()?;
+    }
+    for n in &mut r.motion_us {
         *n = d.u64()?;
     }
     let at = d.pos();
@@ -617,6 +623,9 @@ fn rock_record(e: &mut Enc, r: &RockRecord) {
     for n in [end.tree_impacts, end.stems_broken, end.rebounds, end.events] {
         e.u32(n);
     }
+    for t in end.motion.as_array() {
+        e.f64(t);
+    }
 }
 
 fn read_rock_record(d: &mut Dec<'_>) -> Result<RockRecord, DecodeError> {
@@ -644,6 +653,7 @@ fn read_rock_record(d: &mut Dec<'_>) -> Result<RockRecord, DecodeError> {
         time_s,
     ] = [d.f64()?, d.f64()?, d.f64()?, d.f64()?, d.f64()?, d.f64()?];
     let [tree_impacts, stems_broken, rebounds, events] = [d.u32()?, d.u32()?, d.u32()?, d.u32()?];
+    let motion = Motion::from_array([d.f64()?, d.f64()?, d.f64()?, d.f64()?, d.f64()?]);
     Ok(RockRecord {
         rock_id,
         source_cell,
@@ -662,6 +672,7 @@ fn read_rock_record(d: &mut Dec<'_>) -> Result<RockRecord, DecodeError> {
             rebounds,
             time_s,
             events,
+            motion,
         },
     })
 }

@@ -72,6 +72,10 @@ pub struct Summary {
     pub events: u64,
     /// Events per rock.
     pub events_per_rock: Option<f64>,
+    /// Share of the simulated time in each mode of motion ([`crate::Motion`]; rigid engine,
+    /// `None` for the lumped engine).
+    #[serde(default)]
+    pub motion: Option<MotionShares>,
     /// Cells visited by at least one rock.
     pub cells_reached: u64,
     /// Rows of `trajectories.csv`.
@@ -121,6 +125,40 @@ pub struct Runout {
     pub max: Option<f64>,
     /// Mean.
     pub mean: Option<f64>,
+}
+
+/// Shares of the simulated time of all rocks in each mode of motion ([`crate::Motion`]);
+/// they sum to 1.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct MotionShares {
+    /// In flight.
+    pub flight: f64,
+    /// Rolling.
+    pub rolling: f64,
+    /// Sliding on a face.
+    pub sliding_face: f64,
+    /// Sliding on an edge or a vertex.
+    pub sliding_edge: f64,
+    /// In slow ground contact.
+    pub slow: f64,
+    /// The time they share, summed over rocks, s.
+    pub total_s: f64,
+}
+
+impl MotionShares {
+    /// The shares of times summed in microseconds; `None` when they sum to zero.
+    pub(crate) fn of(motion_us: &[u64; 5]) -> Option<MotionShares> {
+        let total: u64 = motion_us.iter().sum();
+        let share = |k: usize| motion_us[k] as f64 / total as f64;
+        (total > 0).then(|| MotionShares {
+            flight: share(0),
+            rolling: share(1),
+            sliding_face: share(2),
+            sliding_edge: share(3),
+            slow: share(4),
+            total_s: total as f64 * 1e-6,
+        })
+    }
 }
 
 /// Simulated time per rock, s (`None` without rocks).
@@ -250,6 +288,7 @@ impl Results {
             rebounds_per_rock: per_rock(r.rebounds),
             events: r.events,
             events_per_rock: per_rock(r.events),
+            motion: MotionShares::of(&r.motion_us),
             cells_reached: cells_reached as u64,
             trajectory_rows: self.rows.len() as u64,
             screens,

@@ -50,6 +50,9 @@ pub(crate) struct RockStats {
     pub(crate) rebounds: u64,
     /// Sum of the engine's events (see [`crate::RockEnd::events`]).
     pub(crate) events: u64,
+    /// Sum of the rocks' [`crate::Motion`] times, each rounded to whole microseconds (exact
+    /// in any order of summation).
+    pub(crate) motion_us: [u64; 5],
 }
 
 /// Names of the outcomes, in the order of [`RockStats::outcomes`] (see [`Outcome::name`]).
@@ -79,6 +82,7 @@ impl RockStats {
             stems_broken: 0,
             rebounds: 0,
             events: 0,
+            motion_us: [0; 5],
         }
     }
 
@@ -94,6 +98,9 @@ impl RockStats {
         self.stems_broken += o.stems_broken;
         self.rebounds += o.rebounds;
         self.events += o.events;
+        for (a, b) in self.motion_us.iter_mut().zip(&o.motion_us) {
+            *a += b;
+        }
     }
 
     /// Rocks ended.
@@ -292,6 +299,9 @@ impl Tally {
         r.stems_broken += u64::from(end.stems_broken);
         r.rebounds += u64::from(end.rebounds);
         r.events += u64::from(end.events);
+        for (a, t) in r.motion_us.iter_mut().zip(end.motion.as_array()) {
+            *a += (t * 1e6).round() as u64;
+        }
     }
 
     /// Adds everything `other` (a tally of the same layout, with no rock in progress)

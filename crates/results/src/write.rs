@@ -14,7 +14,8 @@ pub const TRAJECTORY_HEADER: &str =
 
 /// Header of `rocks.csv`: one row per rock, written when [`crate::Layout::rock_ends`].
 pub const ROCKS_HEADER: &str = "rock_id,source_cell,x0_m,y0_m,z0_m,outcome,x_m,y_m,runout_m,\
-max_velocity_ms,max_jump_height_m,tree_impacts,stems_broken,rebounds,time_s,volume_m3,mass_kg";
+max_velocity_ms,max_jump_height_m,tree_impacts,stems_broken,rebounds,time_s,volume_m3,mass_kg,\
+flight_s,rolling_s,sliding_face_s,sliding_edge_s,slow_s";
 
 /// Header of `screen_crossings.csv`: one row per crossing of a screen, energy in kJ, the
 /// passing height (vertical, of the rock centre above the ground) in m.
@@ -138,7 +139,7 @@ pub(crate) fn write_rocks(path: &Path, records: &[RockRecord]) -> Result<(), Res
         let e = &r.end;
         writeln!(
             w,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.rock_id,
             r.source_cell,
             x0,
@@ -155,9 +156,21 @@ pub(crate) fn write_rocks(path: &Path, records: &[RockRecord]) -> Result<(), Res
             e.rebounds,
             e.time_s,
             r.volume_m3,
-            r.mass_kg
+            r.mass_kg,
+            motion_fields(&e.motion)
         )
     })
+}
+
+/// The motion columns of `rocks.csv`: the five times, or five empty fields when the engine
+/// does not classify motion (all zero: the lumped engine).
+fn motion_fields(m: &crate::Motion) -> String {
+    let t = m.as_array();
+    if t.iter().all(|&v| v == 0.0) {
+        ",,,,".into()
+    } else {
+        t.map(|v| v.to_string()).join(",")
+    }
 }
 
 /// Writes `screen_crossings.csv`: the header [`CROSSINGS_HEADER`], then one line per record,

@@ -105,6 +105,7 @@ fn the_speed_profile_holds_every_visit_at_its_distance_from_release() {
             rebounds: 0,
             time_s: 1.0,
             events: 0,
+            motion: Default::default(),
         });
     }
     let r = Results::new(&layout, tally, RunInfo::default());

@@ -37,6 +37,7 @@ fn end(outcome: Outcome) -> RockEnd {
         rebounds: 2,
         time_s: 3.0,
         events: 0,
+        motion: Default::default(),
     }
 }
 

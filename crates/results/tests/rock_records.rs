@@ -101,6 +101,12 @@ fn start_and_end_land_in_their_fields() {
         rebounds: 5 + k as u32,
         time_s: 4.5 + k,
         events: 0,
+        // the second rock as the lumped engine leaves it: no modes of motion
+        motion: rockfall_results::Motion::from_array(if k == 0.0 {
+            [2.5, 1.0, 0.5, 0.25, 0.25]
+        } else {
+            [0.0; 5]
+        }),
     };
     let ends = [
         (9, end(Outcome::NetStopped { cell: 17 }, 1.0)),
@@ -152,11 +158,11 @@ fn start_and_end_land_in_their_fields() {
         lines,
         [
             ROCKS_HEADER,
-            "4,6,1005,5005,102,stopped,1003.5,5002.25,7.125,11.5,0.75,2,1,5,4.5,1.5,3975",
-            "9,11,1010,5000,104.5,net_stopped,1004.5,5003.25,8.125,12.5,1.75,3,2,6,5.5,2.75,7287.5",
+            "4,6,1005,5005,102,stopped,1003.5,5002.25,7.125,11.5,0.75,2,1,5,4.5,1.5,3975,2.5,1,0.5,0.25,0.25",
+            "9,11,1010,5000,104.5,net_stopped,1004.5,5003.25,8.125,12.5,1.75,3,2,6,5.5,2.75,7287.5,,,,,",
         ]
     );
-    assert_eq!(ROCKS_HEADER.split(',').count(), 17);
+    assert_eq!(ROCKS_HEADER.split(',').count(), 22);
 }
 
 #[test]
@@ -191,6 +197,6 @@ fn outcome_names_are_stable() {
 /// The memory per kept rock documented in `Layout::rock_ends` and `[output] rocks_csv`.
 #[cfg(target_pointer_width = "64")]
 #[test]
-fn a_record_is_136_bytes() {
-    assert_eq!(std::mem::size_of::<RockRecord>(), 136);
+fn a_record_is_176_bytes() {
+    assert_eq!(std::mem::size_of::<RockRecord>(), 176);
 }

@@ -127,8 +127,9 @@ const OLD_RIGID_PARAMETERS: [&str; 21] = [
     "rest_time_s",
 ];
 /// What the rigid parameters gained: the `[rigid]` settings under their scenario-file keys.
-/// Keys added since: the engine's events (flight arcs and rolling steps, or time steps).
-const NEW_KEYS: [&str; 2] = ["events", "events_per_rock"];
+/// Keys added since: the engine's events (flight arcs and rolling steps, or time steps), and
+/// the shares of the modes of motion (rigid engine; `null` for the lumped one).
+const NEW_KEYS: [&str; 3] = ["events", "events_per_rock", "motion"];
 
 const NEW_RIGID_PARAMETERS: [&str; 7] = [
     "solver_alpha",
@@ -326,6 +327,7 @@ fn hand_rock(t: &mut Tally, rock_id: u64, cells: &[usize], tree_cell: usize, out
         rebounds: 2,
         time_s: 1.0,
         events: 7,
+        motion: Default::default(),
     });
 }
 

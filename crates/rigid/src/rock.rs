@@ -26,7 +26,8 @@ use crate::stems::Stand;
 use crate::step::{RockState, StepParams, StepReport, StepScratch, step};
 use rand::RngExt;
 use rockfall_results::{
-    CellVisit, Event, Outcome, RockEnd, RockStart, ScreenCrossing, ScreenSet, Tally, TrajectoryRow,
+    CellVisit, Event, Motion, Outcome, RockEnd, RockStart, ScreenCrossing, ScreenSet, Tally,
+    TrajectoryRow,
 };
 use rockfall_rng::Rng;
 
@@ -134,6 +135,8 @@ struct Log<'t> {
     impacts: u32,
     rebounds: u32,
     touching_ground: bool,
+    /// Steps in each mode of motion, in the order of [`Motion::as_array`].
+    motion_steps: [u32; 5],
 }
 
 impl Log<'_> {
@@ -215,6 +218,7 @@ pub fn simulate(
         impacts: 0,
         rebounds: 0,
         touching_ground: false,
+        motion_steps: [0; 5],
     };
     let (outcome, time_s) = if z.is_none() {
         (Outcome::Failed, 0.0)
@@ -259,6 +263,7 @@ fn run(
             event = Event::Impact;
         }
         log.touching_ground = report.ground_contacts > 0;
+        log.motion_steps[motion_mode(world, state, &report)] += 1;
         if tree_impacts(world, scratch, t, &mut touching, log) {
             event = Event::Tree;
         }
@@ -277,6 +282,27 @@ fn run(
     }
     (Outcome::TimeLimit, steps as f64 * dt)
 }
+
+/// The mode of motion of a step, as an index into [`Motion::as_array`] (the rule is
+/// [`Motion`]'s): flight, rolling, sliding on a face, sliding on an edge, slow.
+fn motion_mode(world: &World<'_>, state: &RockState, report: &StepReport) -> usize {
+    let speed = state.v_ms.length();
+    if report.ground_contacts == 0 {
+        0
+    } else if speed < world.stop.stop_speed_ms {
+        4
+    } else if report.slip_ms < ROLLING_SLIP_SHARE * speed {
+        1
+    } else if report.ground_contacts >= 3 {
+        2
+    } else {
+        3
+    }
+}
+
+/// A step in ground contact is rolling when its contact points slip slower than this share
+/// of the centre's speed (ours; see [`Motion`]).
+pub const ROLLING_SLIP_SHARE: f64 = 0.5;
 
 /// Counts the time the rock has been at rest; `true` once it has been for the rest time.
 fn at_rest(
@@ -437,5 +463,6 @@ fn finish(
         time_s,
         // the steps taken: the time is a whole number of them
         events: (time_s / world.step.dt_s).round() as u32,
+        motion: Motion::from_array(log.motion_steps.map(|n| f64::from(n) * world.step.dt_s)),
     });
 }

@@ -164,6 +164,9 @@ pub struct StepReport {
     pub converged: bool,
     /// The ground under the centre of mass at the midpoint.
     pub under: Under,
+    /// Mean speed at which the ground contact points slip over the ground at the end of the
+    /// step, m/s (0 without ground contacts): the tangential part of v_E + ω_E × r at each.
+    pub slip_ms: f64,
 }
 
 /// Advances `state` by one time step.
@@ -227,6 +230,7 @@ pub fn step(
             report.converged,
         )
     };
+    let slip_ms = mean_slip_ms(&scratch.ground, r_m, v_e, q_m * w_e);
     advance_slippage(p, scratch, v_e);
     let st = &mut scratch.stats;
     st.steps += 1;
@@ -245,7 +249,24 @@ pub fn step(
         iterations,
         converged,
         under,
+        slip_ms,
     }
+}
+
+/// Mean tangential speed of the rock's material points at the ground contacts, m/s, for
+/// velocity `v` (m/s) and world angular velocity `w` (rad/s) with the centre at `r`.
+fn mean_slip_ms(ground: &[GroundContact], r: V3, v: V3, w: V3) -> f64 {
+    if ground.is_empty() {
+        return 0.0;
+    }
+    let total: f64 = ground
+        .iter()
+        .map(|g| {
+            let vc = v + w.cross(g.point_m - r);
+            (vc - g.normal * g.normal.dot(vc)).length()
+        })
+        .sum();
+    total / ground.len() as f64
 }
 
 /// Ground friction coefficient at slippage `s_m`.

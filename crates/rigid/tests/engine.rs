@@ -356,3 +356,54 @@ fn varied_volumes_scale_the_hull_and_the_mass() {
             .all(|k| (k.volume_m3 / v0 - 1.0).abs() < 1e-12)
     );
 }
+
+/// A bare plane of `theta_deg` falling towards −y, 1 m cells over [−20.5, 20.5]² m.
+fn incline_terrain(theta_deg: f64) -> Terrain {
+    let t = theta_deg.to_radians().tan();
+    let g = common::square(20.0, 1.0);
+    let dem = Dem::new(common::dem_grid(g, move |_, y| t * y)).unwrap();
+    let soil = SoilType::new(4).unwrap();
+    Terrain::new(dem, SurfaceMap::uniform(soil, 0.0, 0.0, 0.0)).unwrap()
+}
+
+/// The modes of motion (`summary.json` `motion`, `rocks.csv`): a box laid on its broad face
+/// on a 35° plane with μ = 0.3 < tan 35° slides down on that face; a ball (the 162-vertex
+/// icosphere) on a 20° plane with μ = 0.6 > (2/7) tan 20° rolls. Each spends most of its
+/// time on the ground in its own mode (the polyhedral ball tips from vertex to vertex and is
+/// off the ground for about half its steps), and the times add up to the rock's simulated
+/// time.
+#[test]
+fn a_sliding_box_and_a_rolling_ball_are_told_apart() {
+    let ball = RockSpec::sphere(0.3, 2700.0);
+    for (rock, theta, mu, mode) in [
+        (block(), 35.0, 0.3, "sliding_face"),
+        (ball, 20.0, 0.6, "rolling"),
+    ] {
+        let release = Release {
+            points: vec![ReleasePoint {
+                orientation_wxyz: Some([1.0, 0.0, 0.0, 0.0]),
+                ..ReleasePoint::at_rest(0.0, 10.0, 0.001)
+            }],
+            ..Release::default()
+        };
+        let mut s = Scenario::new("incline", incline_terrain(theta), rock, release);
+        s.engine = Engine::Rigid;
+        s.contact.ground.mu = mu;
+        s.contact.slippage = None;
+        s.simulation.max_time_s = 1.5;
+        s.simulation.rocks_per_point = 1;
+        s.output.rocks_csv = true;
+        let r = run(&s, None, 1);
+        let sum = r.summary_json();
+        let m = &sum["motion"];
+        let share = m[mode].as_f64().unwrap() / (1.0 - m["flight"].as_f64().unwrap());
+        assert!(share > 0.8, "{mode}: {m}");
+        let rec = r.rock_records()[0];
+        let total: f64 = rec.end.motion.as_array().iter().sum();
+        assert!(
+            (total - rec.end.time_s).abs() < 1e-9,
+            "{total} vs {}",
+            rec.end.time_s
+        );
+    }
+}

@@ -145,6 +145,7 @@ mod tests {
                 rebounds: 0,
                 time_s: 0.0,
                 events: 0,
+                motion: Default::default(),
             },
         }
     }

@@ -90,6 +90,7 @@ pub fn left_dem() -> RockEnd {
         rebounds: 0,
         time_s: 1.0,
         events: 0,
+        motion: Default::default(),
     }
 }
 
@@ -180,6 +181,7 @@ pub fn simulate_rock(tally: &mut Tally, rock_id: u64) {
         rebounds: r.below(9) as u32,
         time_s: t,
         events: r.below(50) as u32,
+        motion: rockfall_results::Motion::from_array([0; 5].map(|_| r.log(0.001, 3.0))),
     });
 }
 
