@@ -192,7 +192,9 @@ pub enum Command {
         /// Scenario file or Rockyfor3D input folder; default: the built-in forest-slope-40.
         input: Option<PathBuf>,
         /// Rock shapes, comma-separated (as for impact-lab --shape); each keeps the
-        /// scenario's rock volume and density.
+        /// scenario's rock volume and density. `rough-<class><Π>*N` is an ensemble: N rough
+        /// rocks of the class (members rough-<class><Π>-1 … -N), each run with --rocks rocks,
+        /// reported as one class with 95 % intervals over members and rocks.
         #[arg(
             long,
             value_delimiter = ',',

@@ -3,7 +3,7 @@
 use crate::Failure;
 use crate::simulate;
 use anyhow::anyhow;
-use rockfall_lab::study::{ShapeStudy, run_shape_study, shape_label};
+use rockfall_lab::study::{ShapeStudy, StudyShape, expand_shape, run_shape_study, shape_label};
 use rockfall_lab::summary::{Labelled, Metrics, regime_table};
 use rockfall_lab::{Lab, LabError, LabSetup, run_lab};
 use rockfall_scenario::RockShape;
@@ -139,7 +139,14 @@ pub fn shape_study(flags: &StudyFlags, out: &Path) -> Result<(), Failure> {
     };
     let (base, forest) = sim.into_parts();
     let shapes = (flags.shapes.iter())
-        .map(|s| Ok((shape_label(s), parse_shape("--shapes", s)?)))
+        .map(|item| {
+            let (label, names) =
+                expand_shape(item).map_err(|e| Failure::BadInput(anyhow!("--shapes: {e}")))?;
+            let members = (names.into_iter())
+                .map(|n| Ok((shape_label(&n), parse_shape("--shapes", &n)?)))
+                .collect::<Result<Vec<_>, Failure>>()?;
+            Ok(StudyShape { label, members })
+        })
         .collect::<Result<Vec<_>, Failure>>()?;
     let study = ShapeStudy {
         shapes,

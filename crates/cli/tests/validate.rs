@@ -258,21 +258,47 @@ fn the_rigid_shape_case_checks_the_papers_findings() {
     let c = case(&v, "forest-slope-40");
     assert_eq!(c["engine"], "rigid");
     assert!(c["rmse_pct"].is_null());
-    assert_eq!(c["rows"].as_array().unwrap().len(), 12);
+    // 3 stand-ins, 3 rough classes, 2 EOTA blocks, 6 rows each
+    assert_eq!(c["rows"].as_array().unwrap().len(), 48);
     let checks = c["checks"].as_array().unwrap();
-    assert_eq!(checks.len(), 3);
+    assert_eq!(checks.len(), 7);
     let study = json(&out.join("forest-slope-40/study.json"));
-    assert_eq!(
-        checks[0]["simulated"],
-        study["ranking"]["farthest_runout_p95"]
+    let farthest = study["ranking"]["farthest_runout_p95"].as_str().unwrap();
+    assert!(
+        checks[0]["simulated"]
+            .as_str()
+            .unwrap()
+            .starts_with(farthest),
+        "{checks:?}"
     );
     assert_eq!(checks[0]["paper"], "flat2.2");
-    for shape in ["cubic1.2", "flat2.2", "long2.2"] {
-        let sum = json(&out.join("forest-slope-40").join(shape).join("summary.json"));
-        assert_eq!(sum["rocks"], 2, "{shape}");
-        assert_eq!(sum["seed"], 5, "{shape}");
+    assert!(
+        checks[3]["claim"]
+            .as_str()
+            .unwrap()
+            .starts_with("rough ensembles")
+    );
+    assert!(checks[6]["claim"].as_str().unwrap().contains("EOTA"));
+    let dir = out.join("forest-slope-40");
+    for run in [
+        dir.join("cubic1.2"),
+        dir.join("long2.2"),
+        dir.join("rough/rough-flat2.2/rough-flat2.2-2"),
+        dir.join("eota/eota221"),
+    ] {
+        let sum = json(&run.join("summary.json"));
+        // two rocks per shape; the rough classes share them out over two members
+        let rocks = if run.starts_with(dir.join("rough")) {
+            1
+        } else {
+            2
+        };
+        assert_eq!(sum["rocks"], rocks, "{}", run.display());
+        assert_eq!(sum["seed"], 5, "{}", run.display());
     }
-    assert!(is_png(&out.join("forest-slope-40/trajectories_plan.png")));
+    for d in ["", "rough", "eota"] {
+        assert!(is_png(&dir.join(d).join("trajectories_plan.png")), "{d}");
+    }
 }
 
 /// validation.json without what depends on how the run was made.

@@ -10,6 +10,7 @@
 //!   for each rock shape ([`study`]), with run-out and lateral spread per shape ([`slope`]).
 
 pub mod compare;
+pub mod ensemble;
 pub mod figures;
 pub mod impact;
 pub mod output;

@@ -10,11 +10,50 @@ use rockfall_scenario::{Engine, RockShape, Scenario};
 use rockfall_sim::Observer;
 use std::path::Path;
 
+/// A shape of a study, or a class of several (an ensemble), each member run on its own.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StudyShape {
+    /// The label: the shape's, or the class's (`rough-flat2.2` for `rough-flat2.2*10`).
+    pub label: String,
+    /// The members, named: one for a single shape.
+    pub members: Vec<(String, RockShape)>,
+}
+
+/// Largest number of members of an ensemble (`NAME*N`).
+pub const MAX_MEMBERS: u64 = 1000;
+
+/// The shapes a `--shapes` item names: `NAME*N` is the ensemble of members `NAME-1` …
+/// `NAME-N` of a rough-rock class (`rough-flat2.2*10`), anything else one shape. Returns the
+/// label and the member names.
+pub fn expand_shape(item: &str) -> Result<(String, Vec<String>), String> {
+    let Some((name, count)) = item.split_once('*') else {
+        return Ok((shape_label(item), vec![item.to_string()]));
+    };
+    let n: u64 = count
+        .trim()
+        .parse()
+        .ok()
+        .filter(|n| (1..=MAX_MEMBERS).contains(n))
+        .ok_or_else(|| {
+            format!("`{item}`: the members of an ensemble are a count 1–{MAX_MEMBERS} after `*`")
+        })?;
+    let name = name.trim().to_ascii_lowercase();
+    if rockfall_scenario::rock::RoughRock::parse(&format!("{name}-1")).is_none() {
+        return Err(format!(
+            "`{item}`: an ensemble is a rough-rock class and a count, such as rough-flat2.2*10"
+        ));
+    }
+    Ok((
+        name.clone(),
+        (1..=n).map(|k| format!("{name}-{k}")).collect(),
+    ))
+}
+
 /// What a shape study runs.
 #[derive(Debug, Clone)]
 pub struct ShapeStudy {
-    /// One run per shape, labelled; the labels name the runs' folders and must differ.
-    pub shapes: Vec<(String, RockShape)>,
+    /// The shapes and classes; their labels name the runs' folders and must differ.
+    pub shapes: Vec<StudyShape>,
     /// Rocks per release point and per source cell.
     pub rocks: u64,
     /// Interval at which every rock's path is recorded, s.
@@ -49,12 +88,13 @@ pub fn run_shape_study(
     base.simulation.rocks_per_cell = study.rocks;
     base.output.trajectory_interval_s = study.interval_s;
     base.output.trajectories = u64::MAX; // every rock's path
+    base.output.rocks_csv = true; // every rock's modes of motion
     let line = fall_line(&base)?;
     let scenarios = shape_scenarios(&base, &study.shapes)?;
     let stems = (!forest.is_empty()).then_some(forest);
     let mut runs = Vec::new();
-    for (label, sc) in &scenarios {
-        let results = rockfall_sim::run_observed(sc, stems, study.threads, label, observer)?;
+    for (label, member, dir, sc) in &scenarios {
+        let results = rockfall_sim::run_observed(sc, stems, study.threads, member, observer)?;
         let input = ReportInput {
             scenario: sc,
             results: &results,
@@ -64,9 +104,9 @@ pub fn run_shape_study(
             files: Vec::new(),
             forest_effect: None,
             links: Vec::new(),
-            label: format!("shape {label}"),
+            label: format!("shape {member}"),
         };
-        let dir = out.join(label);
+        let dir = out.join(dir);
         let files = rockfall_report::write_run(&dir, false, &input)?;
         observer.wrote(&dir, &files);
         runs.push(SlopeRun::new(label, &results));
@@ -75,12 +115,13 @@ pub fn run_shape_study(
     Ok((written, runs))
 }
 
-/// `base` once per shape of `shapes` (at `base`'s rock volume), labelled; every shape is
-/// checked, and labels must differ (each names its output folder).
-fn shape_scenarios(
-    base: &Scenario,
-    shapes: &[(String, RockShape)],
-) -> Result<Vec<(String, Scenario)>, LabError> {
+/// One run of a study: class label, member name, output folder (relative) and scenario.
+type MemberRun = (String, String, std::path::PathBuf, Scenario);
+
+/// `base` once per member of each of `shapes` (at `base`'s rock volume): every shape is
+/// checked, and labels must differ (each names its output folder; a class's members go into
+/// folders of their names inside it).
+fn shape_scenarios(base: &Scenario, shapes: &[StudyShape]) -> Result<Vec<MemberRun>, LabError> {
     if shapes.is_empty() {
         return Err(LabError::Input("--shapes: give at least one shape".into()));
     }
@@ -88,18 +129,28 @@ fn shape_scenarios(
         Some(v) => v,
         None => body_from_spec(&base.rock)?.geometry.volume_m3,
     };
-    let mut out: Vec<(String, Scenario)> = Vec::new();
-    for (label, shape) in shapes {
-        if out.iter().any(|(l, _)| l == label) {
+    let mut out: Vec<MemberRun> = Vec::new();
+    for (k, shape) in shapes.iter().enumerate() {
+        let label = &shape.label;
+        if shapes[..k].iter().any(|s| s.label == *label) {
             return Err(LabError::Input(format!(
                 "--shapes: `{label}` twice (each shape's run goes to a folder of its name)"
             )));
         }
-        let mut sc = base.clone();
-        sc.rock.shape = shape.clone();
-        sc.rock.volume_m3 = Some(volume_m3);
-        body_from_spec(&sc.rock).map_err(|e| LabError::Input(format!("--shapes {label}: {e}")))?;
-        out.push((label.clone(), sc));
+        let single = shape.members.len() == 1;
+        for (member, rock_shape) in &shape.members {
+            let mut sc = base.clone();
+            sc.rock.shape = rock_shape.clone();
+            sc.rock.volume_m3 = Some(volume_m3);
+            body_from_spec(&sc.rock)
+                .map_err(|e| LabError::Input(format!("--shapes {member}: {e}")))?;
+            let dir = if single {
+                std::path::PathBuf::from(label)
+            } else {
+                Path::new(label).join(member)
+            };
+            out.push((label.clone(), member.clone(), dir, sc));
+        }
     }
     Ok(out)
 }
@@ -179,7 +230,10 @@ mod tests {
         let base = plane();
         let forest = base.build_forest().unwrap();
         let study = ShapeStudy {
-            shapes: vec![("cubic1.2".into(), RockShape::parse("cubic1.2").unwrap())],
+            shapes: vec![StudyShape {
+                label: "cubic1.2".into(),
+                members: vec![("cubic1.2".into(), RockShape::parse("cubic1.2").unwrap())],
+            }],
             rocks: 3,
             interval_s: 0.05,
             threads: 2,
@@ -199,5 +253,67 @@ mod tests {
             assert!(p.points.len() > 10, "rock {k}: {} points", p.points.len());
         }
         assert!(out.path().join("cubic1.2/summary.json").is_file());
+        assert_eq!(run.motion_s.len(), 3, "every rock's modes of motion");
+    }
+
+    /// An ensemble runs each member into a folder of its own inside the class's, and the study
+    /// pools them into one class with intervals over the members.
+    #[test]
+    fn an_ensemble_is_one_class_of_several_runs() {
+        let (label, names) = expand_shape("rough-flat2.2*3").unwrap();
+        assert_eq!(label, "rough-flat2.2");
+        assert_eq!(
+            names,
+            ["rough-flat2.2-1", "rough-flat2.2-2", "rough-flat2.2-3"]
+        );
+        for bad in [
+            "rough-flat2.2*0",
+            "rough-flat2.2*x",
+            "flat2.2*3",
+            "rough-flat2.2*1001",
+        ] {
+            assert!(expand_shape(bad).is_err(), "{bad}");
+        }
+        assert_eq!(
+            expand_shape("flat2.2").unwrap(),
+            ("flat2.2".into(), vec!["flat2.2".into()])
+        );
+        let members = names
+            .iter()
+            .map(|n| (n.clone(), RockShape::parse(n).unwrap()))
+            .collect();
+        let study = ShapeStudy {
+            shapes: vec![StudyShape { label, members }],
+            rocks: 4,
+            interval_s: 0.1,
+            threads: 2,
+            input: "a plane".into(),
+            command: "test".into(),
+        };
+        let out = tempfile::tempdir().unwrap();
+        let base = plane();
+        let forest = base.build_forest().unwrap();
+        let (written, runs) = run_shape_study(&base, &forest, &study, out.path(), &Quiet).unwrap();
+        assert_eq!(runs.len(), 3);
+        for n in ["rough-flat2.2-1", "rough-flat2.2-3"] {
+            assert!(
+                out.path()
+                    .join("rough-flat2.2")
+                    .join(n)
+                    .join("rocks.csv")
+                    .is_file(),
+                "{n}"
+            );
+        }
+        assert_eq!(written.stats.len(), 1);
+        let st = &written.stats[0];
+        assert_eq!(st.rocks, 12);
+        let e = st.estimates.unwrap();
+        assert_eq!(e.members, 3);
+        assert!(
+            e.runout_mean_m.ci95[0] <= st.runout_m[0] && st.runout_m[0] <= e.runout_mean_m.ci95[1]
+        );
+        let shares: f64 = e.motion_share.iter().map(|m| m.value).sum();
+        assert!((shares - 1.0).abs() < 1e-9, "{shares}");
     }
 }

@@ -345,8 +345,13 @@ fn slope_offsets_are_along_and_to_the_left_of_the_fall_line() {
             path(vec![[10.0, 20.0], [11.0, 15.0]]),
             path(vec![[10.0, 20.0], [14.0, 15.0], [13.0, 10.0]]),
         ],
+        motion_s: vec![[1.0, 3.0, 0.0, 0.0, 0.0], [1.0, 1.0, 2.0, 0.0, 0.0]],
     };
     let s = SlopeStats::of(&run, &line);
+    let e = s.estimates.unwrap();
+    assert_eq!(e.members, 1);
+    assert!((e.motion_share[1].value - 0.5).abs() < 1e-12, "{e:?}");
+    assert!((e.motion_share[2].value - 0.25).abs() < 1e-12, "{e:?}");
     let close = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-12);
     assert_eq!(s.rocks, 2);
     assert!(close(&s.runout_m, &[7.5, 7.5, 9.75, 10.0]), "{s:?}");

@@ -7,9 +7,9 @@
 //! goes through the driver (`rockfall_sim`) and is written as a run folder of its own.
 
 use crate::figure::{FIG2_FILE, tree_impacts_figure};
-use crate::shapes::{SHAPES, shape_case};
+use crate::shapes::{EOTA, ROUGH_CLASSES, SHAPES, ShapeStudies, rough_members, shape_case};
 use crate::{CaseReport, Meta, ValidationError, fair, measure, published, write_reports};
-use rockfall_lab::study::{ShapeStudy, run_shape_study};
+use rockfall_lab::study::{ShapeStudy, StudyShape, run_shape_study};
 use rockfall_report::ReportInput;
 use rockfall_scenario::{LumpedSettings, MohMode, RockShape, Scenario};
 use rockfall_sim::{Observer, Overrides, Simulation};
@@ -91,13 +91,25 @@ pub fn run_validation(
         if name == "forest-slope-40" {
             cases.push(shape_study_case(name, v, out, observer)?);
             meta.settings.push(format!(
-                "rigid: built-in {name}, shapes {}, the scenario's contact laws",
-                SHAPES.join(", ")
+                "rigid: built-in {name}, the scenario's contact laws; shapes {}; rough \
+                 classes {} of {} members each; EOTA blocks {}",
+                SHAPES.join(", "),
+                ROUGH_CLASSES.join(", "),
+                rough_members(v.shape_rocks),
+                EOTA.join(", ")
             ));
-            meta.figures.push((
-                "Trajectories per shape coloured by total energy (cf. seed 001 fig. 6)".into(),
-                format!("{name}/trajectories_plan.png"),
-            ));
+            for (what, dir) in [
+                ("seed 001's stand-in shapes", ""),
+                ("rough classes", "rough/"),
+                ("EOTA blocks", "eota/"),
+            ] {
+                meta.figures.push((
+                    format!(
+                        "Trajectories of {what} coloured by total energy (cf. seed 001 fig. 6)"
+                    ),
+                    format!("{name}/{dir}trajectories_plan.png"),
+                ));
+            }
         } else {
             let (site_cases, settings) = vaujany_cases(name, v, out, &mut meta, observer)?;
             cases.extend(site_cases);
@@ -243,19 +255,61 @@ fn shape_study_case(
         ..Overrides::default()
     };
     let (base, forest) = Simulation::new(rockfall_sites::build(name)?, &overrides)?.into_parts();
-    // seed 001's named shapes: nothing to parse or read
-    let shapes = (SHAPES.iter())
-        .map(|s| (s.to_string(), RockShape::Named(s.to_string())))
-        .collect();
-    let study = ShapeStudy {
-        shapes,
-        rocks: v.shape_rocks,
-        interval_s: 0.05,
-        threads: v.threads,
-        input: "built-in site forest-slope-40 (rockfall shape-study)".into(),
-        command: v.command.clone(),
+    let one = |n: &str| StudyShape {
+        label: n.to_string(),
+        members: vec![(n.to_string(), RockShape::Named(n.to_string()))],
     };
-    let (study, runs) = run_shape_study(&base, &forest, &study, &out.join(name), observer)?;
-    let summaries: Vec<_> = runs.iter().map(|r| r.summary.clone()).collect();
-    Ok(shape_case(name, &study.stats, &summaries, v.shape_rocks))
+    // the rough classes as ensembles: members of an equal share of the rocks
+    let members = rough_members(v.shape_rocks);
+    let rough = (ROUGH_CLASSES.iter())
+        .map(|c| StudyShape {
+            label: c.to_string(),
+            members: (1..=members)
+                .map(|k| {
+                    let n = format!("{c}-{k}");
+                    (n.clone(), RockShape::Named(n))
+                })
+                .collect(),
+        })
+        .collect();
+    let groups = [
+        (
+            SHAPES.iter().map(|s| one(s)).collect(),
+            v.shape_rocks,
+            out.join(name),
+        ),
+        (
+            rough,
+            (v.shape_rocks / members).max(1),
+            out.join(name).join("rough"),
+        ),
+        (
+            EOTA.iter().map(|s| one(s)).collect(),
+            v.shape_rocks,
+            out.join(name).join("eota"),
+        ),
+    ];
+    let mut studies = Vec::new();
+    for (shapes, rocks, dir) in groups {
+        let study = ShapeStudy {
+            shapes,
+            rocks,
+            interval_s: 0.05,
+            threads: v.threads,
+            input: "built-in site forest-slope-40 (rockfall shape-study)".into(),
+            command: v.command.clone(),
+        };
+        studies.push(
+            run_shape_study(&base, &forest, &study, &dir, observer)?
+                .0
+                .stats,
+        );
+    }
+    let [stand_ins, rough, eota]: [Vec<_>; 3] = studies.try_into().unwrap_or_default();
+    let studies = ShapeStudies {
+        stand_ins,
+        rough,
+        eota,
+    };
+    Ok(shape_case(name, &studies, v.shape_rocks))
 }
