@@ -12,6 +12,7 @@
 
 pub mod forest_slope;
 pub mod profile;
+pub mod ramp;
 pub mod vaujany;
 
 use rockfall_scenario::Scenario;
@@ -21,7 +22,7 @@ use rockfall_scenario::Scenario;
 pub const SITE_SEED: u64 = 2006;
 
 /// The built-in sites: (name, one-line description).
-pub const SITES: [(&str, &str); 3] = [
+pub const SITES: [(&str, &str); 4] = [
     (
         "vaujany-site1",
         "seed 000: Vaujany site 1, open 38° avalanche track, 0.95 m spheres",
@@ -33,6 +34,10 @@ pub const SITES: [(&str, &str); 3] = [
     (
         "forest-slope-40",
         "seed 001: 40° virtual slope, 200 m drop, 500 stems/ha, rigid engine",
+    ),
+    (
+        "leine-ramp-40",
+        "Leine et al. 2021: 800 kg EOTA221 blocks down a bare 40° ramp, rigid engine, dt 2 ms",
     ),
 ];
 
@@ -59,6 +64,7 @@ pub fn build(name: &str) -> Result<Scenario, SiteError> {
         "vaujany-site1" => vaujany::build(vaujany::Site::One),
         "vaujany-site2" => vaujany::build(vaujany::Site::Two),
         "forest-slope-40" => forest_slope::build(),
+        "leine-ramp-40" => ramp::build(),
         other => Err(SiteError::Unknown(other.into())),
     }
 }

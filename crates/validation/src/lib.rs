@@ -25,6 +25,7 @@ pub mod figure;
 pub mod measure;
 pub mod metrics;
 pub mod observed;
+pub mod ramp;
 pub mod report;
 pub mod run;
 pub mod sensitivity;

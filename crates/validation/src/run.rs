@@ -19,7 +19,12 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// The runs `validate` knows, in the order it runs them.
-pub const CASES: [&str; 3] = ["vaujany-site1", "vaujany-site2", "forest-slope-40"];
+pub const CASES: [&str; 4] = [
+    "vaujany-site1",
+    "vaujany-site2",
+    "forest-slope-40",
+    "leine-ramp-40",
+];
 
 /// Rocks per Vaujany site as in seed 000 (§2.6) and per shape as in seed 001 (§3.4).
 pub const ROCKS: (u64, u64) = (10_000, 500);
@@ -88,7 +93,14 @@ pub fn run_validation(
         sensitivity: Vec::new(),
     };
     for &name in &v.cases {
-        if name == "forest-slope-40" {
+        if name == crate::ramp::NAME {
+            // the paper's 1 000 rocks by default: twice the rocks of a shape
+            cases.push(crate::ramp::ramp_case(v, 2 * v.shape_rocks, out, observer)?);
+            meta.settings.push(format!(
+                "rigid: built-in {name}, 800 kg eota221, dt 2 ms, {} rocks (our reconstruction)",
+                2 * v.shape_rocks
+            ));
+        } else if name == "forest-slope-40" {
             cases.push(shape_study_case(name, v, out, observer)?);
             meta.settings.push(format!(
                 "rigid: built-in {name}, the scenario's contact laws; shapes {}; rough \
