@@ -9,7 +9,12 @@ use common::{bad_input, ok, rockfall, rockfall_in, s};
 
 use tempfile::TempDir;
 
-const SITES: [&str; 3] = ["vaujany-site1", "vaujany-site2", "forest-slope-40"];
+const SITES: [&str; 4] = [
+    "vaujany-site1",
+    "vaujany-site2",
+    "forest-slope-40",
+    "leine-ramp-40",
+];
 
 /// Writes site `name` with `rockfall site` into a fresh folder; returns (tempdir, site dir).
 fn site(name: &str) -> (TempDir, std::path::PathBuf) {
