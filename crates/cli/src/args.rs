@@ -122,7 +122,7 @@ pub enum Command {
     /// Write a built-in synthetic site as input files: rasters (ESRI ASCII grids with .prj),
     /// tree list, scenario.toml, and the Rockyfor3D file set where the site fits it.
     Site {
-        /// Site name (see --list): vaujany-site1, vaujany-site2, forest-slope-40.
+        /// Site name (see --list): vaujany-site1, vaujany-site2, forest-slope-40, leine-ramp-40.
         #[arg(required_unless_present = "list")]
         name: Option<String>,
         /// Output folder (created if needed).
@@ -221,19 +221,26 @@ pub enum Command {
     /// error E = (C − O)·100/O of each quantity and the RMSE of each case (seed 000 eqs. 5
     /// and 6). Cases: `vaujany-site1` (seed 000 table 2, site 1, and table 3 at its screens at
     /// 185 m and 235 m, each screen a case of its own), `vaujany-site2` (table 2, site 2, and
-    /// the fig. 2 histogram of tree impacts per rock), both on the lumped engine; and
-    /// `forest-slope-40` (seed 001 §3.4: run-out and spread of three rock shapes on the rigid
-    /// engine, the paper's findings checked). Beside the paper's protocol, a fair comparison:
+    /// the fig. 2 histogram of tree impacts per rock), both on the lumped engine;
+    /// `impact-lab` (seed 001 §3.1–3.3: the single-tree laboratory for sphere, cubic1.2,
+    /// flat2.2 and long2.2, losses per regime and the rotation and energy-partition findings);
+    /// `forest-slope-40` (seed 001 §3.4: run-out and spread of its three rock shapes, of rough
+    /// ensembles of their classes and of the EOTA blocks on the rigid engine, seed 001's and
+    /// Caviezel et al. 2021's findings checked); and `leine-ramp-40` (Leine et al. 2021:
+    /// EOTA221 down a 40° ramp, mean and sd of energy, speed, rotation and jump height).
+    /// Beside the paper's protocol, a fair comparison:
     /// each maximum also over groups of the observed sample size, each observed share with
     /// its 95 % interval, and the fair RMSE; and a sensitivity table (each Vaujany site rerun
     /// with a fifth of the rocks, every unknown of its reconstruction and our two ground-
     /// contact rules at both ends of their range). Writes validation.json, validation.md,
     /// fig2_tree_impacts_per_rock.png and every run's outputs in OUT/<case>.
     Validate {
-        /// Cases to run: vaujany-site1, vaujany-site2, forest-slope-40 (default: all).
+        /// Cases to run: vaujany-site1, vaujany-site2, impact-lab, forest-slope-40, leine-ramp-40
+        /// (default: all).
         cases: Vec<String>,
         /// Rocks per case (per shape for forest-slope-40; ≥ 1); default 10 000 for the
-        /// Vaujany sites as in seed 000, 500 per shape as in seed 001.
+        /// Vaujany sites as in seed 000, 500 per shape as in seed 001 (ten times as many
+        /// impacts per shape in impact-lab, twice as many rocks on leine-ramp-40).
         #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
         rocks: Option<u64>,
         /// A quick look: 1000 rocks per Vaujany site, 30 per shape.

@@ -346,7 +346,7 @@ fn bad_cases_and_flags_are_refused_before_anything_runs() {
         rockfall(&["validate", "vaujany-site3", "--out", s(&out)]),
         &[
             "vaujany-site3",
-            "vaujany-site1, vaujany-site2, forest-slope-40",
+            "vaujany-site1, vaujany-site2, impact-lab, forest-slope-40, leine-ramp-40",
         ],
     );
     assert!(!out.exists(), "nothing written");
@@ -372,4 +372,42 @@ fn an_output_path_that_is_not_utf8_is_no_reason_to_panic() {
     assert_eq!(run.status.code(), Some(0), "{stderr}");
     let v = json(&out.join("validation.json"));
     assert!(v["command"].as_str().unwrap().contains('\u{fffd}'), "{v}");
+}
+
+/// The impact laboratory and Leine's ramp as cases: the laboratory's seven findings and its
+/// loss rows against 85 / 70 / 50 %, the ramp's eight rows against the paper's means and
+/// standard deviations; each run's outputs written.
+#[test]
+fn the_lab_and_ramp_cases_compare_with_their_papers() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("v");
+    ok(rockfall(&[
+        "validate",
+        "impact-lab",
+        "leine-ramp-40",
+        "--rocks",
+        "3",
+        "--out",
+        s(&out),
+    ]));
+    let v = json(&out.join("validation.json"));
+    assert_eq!(v["cases"].as_array().unwrap().len(), 2);
+    let lab = case(&v, "impact-lab");
+    assert_eq!(lab["checks"].as_array().unwrap().len(), 7);
+    let rows = lab["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 24);
+    assert_eq!(rows[0]["observed"], 85.0);
+    let sum = json(&out.join("impact-lab/flat2.2/summary.json"));
+    assert!(
+        sum["regimes"]["frontal"]["rotation_change"]["p50"].is_number(),
+        "{sum}"
+    );
+    let ramp = case(&v, "leine-ramp-40");
+    let rows = ramp["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 8);
+    assert_eq!(rows[2]["observed"], 17.75);
+    assert!(rows.iter().all(|r| r["simulated"].is_number()), "{rows:?}");
+    let run = json(&out.join("leine-ramp-40/summary.json"));
+    assert_eq!(run["rocks"], 6);
+    assert!(run["motion"]["flight"].is_number());
 }

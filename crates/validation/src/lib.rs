@@ -22,6 +22,7 @@
 pub mod case;
 pub mod fair;
 pub mod figure;
+pub mod lab;
 pub mod measure;
 pub mod metrics;
 pub mod observed;

@@ -19,9 +19,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// The runs `validate` knows, in the order it runs them.
-pub const CASES: [&str; 4] = [
+pub const CASES: [&str; 5] = [
     "vaujany-site1",
     "vaujany-site2",
+    "impact-lab",
     "forest-slope-40",
     "leine-ramp-40",
 ];
@@ -93,7 +94,24 @@ pub fn run_validation(
         sensitivity: Vec::new(),
     };
     for &name in &v.cases {
-        if name == crate::ramp::NAME {
+        if name == crate::lab::NAME {
+            // seed 001's 5000 impacts per shape by default: ten times the rocks of a shape
+            let samples = 10 * v.shape_rocks;
+            cases.push(crate::lab::lab_case(v, samples, out)?);
+            meta.settings.push(format!(
+                "rigid: impact laboratory of seed 001 §2, shapes {}, {samples} impacts each",
+                crate::lab::SHAPES.join(", ")
+            ));
+            for (what, file) in [
+                ("total energy loss", "energy_loss_total.png"),
+                ("change of rotational speed Δω", "rotation_change.png"),
+            ] {
+                meta.figures.push((
+                    format!("PDFs of the {what} per regime, flat2.2 (cf. seed 001 figs. 3–4)"),
+                    format!("{name}/flat2.2/{file}"),
+                ));
+            }
+        } else if name == crate::ramp::NAME {
             // the paper's 1 000 rocks by default: twice the rocks of a shape
             cases.push(crate::ramp::ramp_case(v, 2 * v.shape_rocks, out, observer)?);
             meta.settings.push(format!(
