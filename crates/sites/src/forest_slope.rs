@@ -46,6 +46,30 @@ pub fn slope_length_m() -> f64 {
     DROP_M / SLOPE_DEG.to_radians().tan()
 }
 
+/// The rock–ground law of Leine et al. (2014), reference [12] of seed 001: ε_N = ε_T = 0 with
+/// their slippage friction (μ_min 0.2, μ_max 1.3, β 20 s⁻¹, κ 0.7 m⁻¹; μ 0.2 without
+/// slippage); stems with seed 001's μ = 0.1 and ε = 0.
+pub fn leine_2014_contact() -> ContactSettings {
+    ContactSettings {
+        ground: ContactParams {
+            mu: 0.2,
+            eps_n: 0.0,
+            eps_t: 0.0,
+        },
+        tree: ContactParams {
+            mu: 0.1,
+            eps_n: 0.0,
+            eps_t: 0.0,
+        },
+        slippage: Some(Slippage {
+            mu_min: 0.2,
+            mu_max: 1.3,
+            beta_per_s: 20.0,
+            kappa_per_m: 0.7,
+        }),
+    }
+}
+
 /// Builds the site.
 pub fn build() -> Result<Scenario, SiteError> {
     let t = SLOPE_DEG.to_radians().tan();
@@ -118,24 +142,7 @@ pub fn build() -> Result<Scenario, SiteError> {
         }],
         lumped: LumpedSettings::default(),
         rigid: RigidParams::default(),
-        contact: ContactSettings {
-            ground: ContactParams {
-                mu: 0.2,
-                eps_n: 0.0,
-                eps_t: 0.0,
-            },
-            tree: ContactParams {
-                mu: 0.1,
-                eps_n: 0.0,
-                eps_t: 0.0,
-            },
-            slippage: Some(Slippage {
-                mu_min: 0.2,
-                mu_max: 1.3,
-                beta_per_s: 20.0,
-                kappa_per_m: 0.7,
-            }),
-        },
+        contact: leine_2014_contact(),
         simulation: SimulationSettings {
             rocks_per_point: 500,
             ..SimulationSettings::default()

@@ -24,8 +24,8 @@ use crate::SiteError;
 use crate::profile::{Profile, Section, sample_dem};
 use rockfall_raster::GridGeometry;
 use rockfall_scenario::{
-    ContactParams, ContactSettings, Engine, LumpedSettings, OutputSettings, Release, ReleasePoint,
-    RigidParams, RockSpec, Scenario, SimulationSettings, Slippage,
+    Engine, LumpedSettings, OutputSettings, Release, ReleasePoint, RigidParams, RockSpec, Scenario,
+    SimulationSettings,
 };
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
 use std::collections::BTreeMap;
@@ -97,24 +97,7 @@ pub fn build() -> Result<Scenario, SiteError> {
         screens: Vec::new(),
         lumped: LumpedSettings::default(),
         rigid: RigidParams::default(),
-        contact: ContactSettings {
-            ground: ContactParams {
-                mu: 0.2,
-                eps_n: 0.0,
-                eps_t: 0.0,
-            },
-            tree: ContactParams {
-                mu: 0.1,
-                eps_n: 0.0,
-                eps_t: 0.0,
-            },
-            slippage: Some(Slippage {
-                mu_min: 0.2,
-                mu_max: 1.3,
-                beta_per_s: 20.0,
-                kappa_per_m: 0.7,
-            }),
-        },
+        contact: crate::forest_slope::leine_2014_contact(),
         simulation: SimulationSettings {
             rocks_per_point: ROCKS,
             dt_s: 0.002,
