@@ -198,7 +198,7 @@ fn shape_study_runs_each_shape_on_the_forest_slope() {
         "--out",
         s(&out),
     ]));
-    assert!(stdout.contains("| long2.2 | 2 |"), "{stdout}");
+    assert!(stdout.contains("| long2.2 | 1 × 2 |"), "{stdout}");
     let study = json(&out.join("study.json"));
     let shapes = study["shapes"].as_array().unwrap();
     assert_eq!(shapes.len(), 2);
