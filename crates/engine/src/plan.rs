@@ -214,6 +214,7 @@ mod tests {
         let opts = RunOptions {
             threads: 2,
             progress: None,
+            cancel: None,
         };
         let wanted = RockSet::from_ranges([1..2, 4..7, 7..20]);
         plan.run(&layout, &wanted, &opts).unwrap();

@@ -8,7 +8,7 @@
 use crate::RockSet;
 use rockfall_results::{Layout, Tally};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// How to run.
 #[derive(Clone, Copy, Default)]
@@ -17,6 +17,9 @@ pub struct RunOptions<'a> {
     pub threads: usize,
     /// Called from the workers with the number of rocks just finished.
     pub progress: Option<&'a (dyn Fn(u64) + Sync)>,
+    /// When set, the workers take no further chunk of rocks once it reads `true`: the run
+    /// ends early with the rocks done so far, and the caller, which set it, discards them.
+    pub cancel: Option<&'a AtomicBool>,
 }
 
 /// The worker pool could not start.
@@ -47,6 +50,9 @@ pub(crate) fn run_rocks<S>(
         let mut tally = Tally::new(layout.clone());
         let mut space = scratch();
         loop {
+            if opts.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                break;
+            }
             let start = next.fetch_add(chunk, Ordering::Relaxed);
             if start >= total {
                 break;
@@ -108,6 +114,7 @@ mod tests {
                 let opts = RunOptions {
                     threads,
                     progress: Some(&progress),
+                    cancel: None,
                 };
                 let seen = Mutex::new(Vec::new());
                 run_rocks(

@@ -31,6 +31,7 @@ fn site2(c: &mut Criterion) {
             let opts = RunOptions {
                 threads,
                 progress: None,
+                cancel: None,
             };
             group.bench_function(format!("{label}/{threads}-threads"), |b| {
                 b.iter(|| black_box(plan.run_all(&layout, &opts).expect("run")))

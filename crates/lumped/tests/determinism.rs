@@ -115,6 +115,7 @@ fn run(s: &Scenario, forest: &Forest, threads: usize) -> Results {
     let opts = RunOptions {
         threads,
         progress: None,
+        cancel: None,
     };
     let start = Instant::now();
     let plan = Plan::new(model, s).unwrap();

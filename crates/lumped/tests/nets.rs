@@ -79,6 +79,7 @@ fn run(s: &Scenario) -> Results {
     let opts = RunOptions {
         threads: 2,
         progress: None,
+        cancel: None,
     };
     let tally = plan.run_all(&layout, &opts).unwrap();
     Results::new(&layout, tally, RunInfo::default())

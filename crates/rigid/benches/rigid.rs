@@ -64,6 +64,7 @@ fn forest_slope(c: &mut Criterion) {
             let opts = RunOptions {
                 threads,
                 progress: None,
+                cancel: None,
             };
             group.bench_function(format!("{label}/{threads}-threads"), |b| {
                 b.iter(|| black_box(plan.run_all(&layout, &opts).expect("run")))

@@ -29,6 +29,7 @@ fn run(scenario: &Scenario, forest: Option<&Forest>, threads: usize) -> Results 
             &RunOptions {
                 threads,
                 progress: None,
+                cancel: None,
             },
         )
         .unwrap();

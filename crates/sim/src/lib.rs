@@ -80,6 +80,9 @@ pub enum SimError {
     /// The run so far could not be saved after a batch (the message names the file).
     #[error("cannot save the run so far: {0}")]
     Checkpoint(String),
+    /// The caller stopped the run ([`Observer::cancel_flag`]); nothing of it is kept.
+    #[error("the run was interrupted")]
+    Cancelled,
 }
 
 fn at(file: &Option<PathBuf>) -> String {
@@ -90,7 +93,10 @@ fn at(file: &Option<PathBuf>) -> String {
 impl SimError {
     /// True when the error is the input's fault (exit 2), false for an internal failure.
     pub fn is_bad_input(&self) -> bool {
-        !matches!(self, SimError::Pool(_) | SimError::Checkpoint(_))
+        !matches!(
+            self,
+            SimError::Pool(_) | SimError::Checkpoint(_) | SimError::Cancelled
+        )
     }
 
     /// The input file named by the error, if any.
@@ -99,7 +105,7 @@ impl SimError {
             SimError::Scenario { file, .. }
             | SimError::Forest { file, .. }
             | SimError::Engine { file, .. } => file.as_deref(),
-            SimError::Pool(_) | SimError::Checkpoint(_) => None,
+            SimError::Pool(_) | SimError::Checkpoint(_) | SimError::Cancelled => None,
         }
     }
 
@@ -263,8 +269,10 @@ impl Simulation {
         let opts = RunOptions {
             threads: self.threads,
             progress: Some(&advanced),
+            cancel: observer.cancel_flag(),
         };
         let out = prepared.run(Some(rocks), &opts)?;
+        check_cancelled(observer)?;
         observer.ended(label);
         Ok(out)
     }
@@ -279,6 +287,7 @@ impl Simulation {
         let opts = RunOptions {
             threads: self.threads,
             progress: None,
+            cancel: None,
         };
         Prepared::new(&self.scenario, self.stems())?.tally_on(layout, Some(rocks), &opts)
     }
@@ -298,10 +307,20 @@ pub fn run_observed(
     let opts = RunOptions {
         threads,
         progress: Some(&advanced),
+        cancel: observer.cancel_flag(),
     };
     let results = run(scenario, forest, None, &opts)?;
+    check_cancelled(observer)?;
     observer.finished(label, &results);
     Ok(results)
+}
+
+/// [`SimError::Cancelled`] when `observer` asked the run to stop.
+fn check_cancelled(observer: &dyn Observer) -> Result<(), SimError> {
+    match observer.cancel_flag() {
+        Some(flag) if flag.load(std::sync::atomic::Ordering::Relaxed) => Err(SimError::Cancelled),
+        _ => Ok(()),
+    }
 }
 
 /// Simulates `scenario` with `overrides` applied first: every rock, with its forest.

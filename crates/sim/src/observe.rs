@@ -2,6 +2,7 @@
 
 use rockfall_results::Results;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 
 /// Watches the runs of a driver call (a command line shows progress bars and summaries; a
 /// test or a library caller may ignore everything: [`Quiet`]).
@@ -17,6 +18,12 @@ pub trait Observer: Sync {
     fn finished(&self, _label: &str, _results: &Results) {}
     /// `files` were written into `out`.
     fn wrote(&self, _out: &Path, _files: &[PathBuf]) {}
+    /// A flag the caller sets to stop the run (Ctrl-C in a Python session): the workers take
+    /// no further rocks once it reads `true`, and the run ends in [`crate::SimError::Cancelled`]
+    /// with nothing of it kept.
+    fn cancel_flag(&self) -> Option<&AtomicBool> {
+        None
+    }
 }
 
 /// An observer that shows nothing.

@@ -390,3 +390,54 @@ fn a_source_cell_listed_twice_is_refused() {
         );
     }
 }
+
+/// An observer that sets its cancel flag once `after` rocks are done, and counts the rocks.
+struct Stopping {
+    flag: std::sync::atomic::AtomicBool,
+    done: std::sync::atomic::AtomicU64,
+    after: u64,
+}
+
+impl rockfall_sim::Observer for Stopping {
+    fn advanced(&self, rocks: u64) {
+        use std::sync::atomic::Ordering::Relaxed;
+        if self.done.fetch_add(rocks, Relaxed) + rocks >= self.after {
+            self.flag.store(true, Relaxed);
+        }
+    }
+    fn cancel_flag(&self) -> Option<&std::sync::atomic::AtomicBool> {
+        Some(&self.flag)
+    }
+}
+
+/// A run whose observer raises its cancel flag stops taking rocks and ends in
+/// `SimError::Cancelled` (not bad input), on both engines, having run far fewer rocks than
+/// asked; a flag never raised changes nothing.
+#[test]
+fn a_cancelled_run_stops_early_and_says_so() {
+    for (scenario, rocks) in [(lumped_site(20_000), 20_000), (rigid_site(200), 200)] {
+        let sim = Simulation::new(scenario, &threads(2)).unwrap();
+        let stop = Stopping {
+            flag: false.into(),
+            done: 0.into(),
+            after: 1,
+        };
+        let err = sim.run(true, "x", &stop).unwrap_err();
+        assert!(matches!(err, SimError::Cancelled), "{err}");
+        assert!(!err.is_bad_input());
+        let done = stop.done.load(std::sync::atomic::Ordering::Relaxed);
+        assert!(
+            done < rocks / 4,
+            "{done} of {rocks} rocks ran after the flag"
+        );
+    }
+    let sim = Simulation::new(lumped_site(200), &threads(2)).unwrap();
+    let never = Stopping {
+        flag: false.into(),
+        done: 0.into(),
+        after: u64::MAX,
+    };
+    let a = sim.run(true, "x", &never).unwrap();
+    let b = sim.run(true, "x", &Quiet).unwrap();
+    assert_eq!(fingerprint(&a), fingerprint(&b));
+}

@@ -42,6 +42,7 @@ pub fn run(scenario: &Scenario, forest: Option<&Forest>, layout: Layout) -> Resu
     let opts = RunOptions {
         threads: 2,
         progress: None,
+        cancel: None,
     };
     let plan = Plan::new(model, scenario).unwrap();
     let tally = plan.run_all(&layout, &opts).unwrap();
