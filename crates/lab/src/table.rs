@@ -37,9 +37,43 @@ pub fn write_impacts(path: &Path, impacts: &[Impact]) -> Result<(), LabError> {
     })
 }
 
-fn row(n: usize, i: &Impact) -> String {
+/// Names of the numeric columns of `impacts.csv` between `regime` and `deviation_deg`, in the
+/// order of [`numbers`].
+pub const NUMBER_COLUMNS: [&str; 28] = [
+    "zeta_ct",
+    "offset_m",
+    "impact_height_m",
+    "t_impact_s",
+    "duration_s",
+    "contact_steps",
+    "release_speed_ms",
+    "release_spin_rads",
+    "theta_deg",
+    "chi_deg",
+    "v_in_ms",
+    "v_out_ms",
+    "omega_in_rads",
+    "omega_out_rads",
+    "e_trans_in_j",
+    "e_rot_in_j",
+    "e_trans_out_j",
+    "e_rot_out_j",
+    "gravity_work_j",
+    "total_energy_loss",
+    "trans_energy_loss",
+    "rotation_change",
+    "d_e_rot_j",
+    "d_e_trans_j",
+    "azimuth_in_deg",
+    "elevation_in_deg",
+    "azimuth_out_deg",
+    "elevation_out_deg",
+];
+
+/// The numbers of an impact in the order of [`NUMBER_COLUMNS`].
+pub fn numbers(i: &Impact) -> [f64; 28] {
     let c = &i.candidate;
-    let numbers = [
+    [
         i.zeta_ct,
         i.offset_m,
         i.impact_height_m,
@@ -68,7 +102,12 @@ fn row(n: usize, i: &Impact) -> String {
         i.elevation_in_deg(),
         i.azimuth_out_deg(),
         i.elevation_out_deg(),
-    ];
+    ]
+}
+
+fn row(n: usize, i: &Impact) -> String {
+    let c = &i.candidate;
+    let numbers = numbers(i);
     let mut s = format!(
         "{n},{},{},{},{},{}",
         c.id,
@@ -165,4 +204,16 @@ fn parse_row(line: &str, regime: usize, cols: &[usize; 5]) -> Result<Metrics, St
         d_e_rot_j,
         d_e_trans_j,
     })
+}
+
+#[cfg(test)]
+mod number_tests {
+    /// The header of `impacts.csv` names the numeric columns in [`super::NUMBER_COLUMNS`]'s order.
+    #[test]
+    fn header_and_number_columns_agree() {
+        let cols: Vec<&str> = super::HEADER.split(',').collect();
+        assert_eq!(&cols[6..34], &super::NUMBER_COLUMNS[..]);
+        assert_eq!(cols[5], "regime");
+        assert_eq!(cols[34], "deviation_deg");
+    }
 }
