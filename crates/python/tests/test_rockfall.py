@@ -76,12 +76,29 @@ def test_api_shapes_units_and_georeferencing(site2):
     assert res2.summary["rocks"] == 50 and sc.seed == 3 and sc.rocks_per_cell == 300
 
 
+def read_asc(path: Path) -> tuple[np.ndarray, tuple[float, float, float]]:
+    """An ESRI ASCII grid: its values (NaN at nodata) and (xllcorner, yllcorner, cellsize)."""
+    lines = path.read_text().splitlines()
+    head = {}
+    while lines and lines[0].split()[0][0].isalpha():
+        key, value = lines.pop(0).split()
+        head[key.lower()] = float(value)
+    values = np.array([[float(v) for v in line.split()] for line in lines])
+    if "nodata_value" in head:  # count grids have no nodata
+        values[values == head["nodata_value"]] = np.nan
+    return values, (head["xllcorner"], head["yllcorner"], head["cellsize"])
+
+
 def test_same_numbers_as_the_command_line_lumped(site2, tmp_path):
     cli_out, py_out = tmp_path / "cli", tmp_path / "py"
-    r = sh("run", str(site2 / "scenario.toml"), "--rocks-per-cell", "400", "--seed", "5",
-           "--threads", "2", "--out", str(cli_out))
+    scenario = site2 / "with_rocks.toml"
+    text = (site2 / "scenario.toml").read_text()
+    assert "rocks_csv = false" in text
+    scenario.write_text(text.replace("rocks_csv = false", "rocks_csv = true"))
+    r = sh("run", str(scenario), "--rocks-per-cell", "400", "--seed", "5",
+           "--threads", "2", "--ascii", "--out", str(cli_out))
     assert r.returncode == 0, r.stderr
-    res = rockfall.run(str(site2 / "scenario.toml"), rocks_per_cell=400, seed=5, threads=1)
+    res = rockfall.run(str(scenario), rocks_per_cell=400, seed=5, threads=1)
     res.write(py_out)
     assert summary_of(cli_out / "summary.json") == summary_of(py_out / "summary.json")
     assert {k: v for k, v in res.summary.items() if k not in TIMING_KEYS} == summary_of(
@@ -90,6 +107,30 @@ def test_same_numbers_as_the_command_line_lumped(site2, tmp_path):
     assert len(tifs) >= 17
     for name in tifs:
         assert (cli_out / name).read_bytes() == (py_out / name).read_bytes(), name
+    # the arrays themselves: every raster against the command line's ASCII grid, which holds
+    # rows north to south like the array; and the transform against its corner
+    for name in res.raster_names():
+        cli_values, (xll, yll, cell) = read_asc(cli_out / f"{name}.asc")
+        a = res.raster(name)
+        assert a.shape == cli_values.shape, name
+        assert np.allclose(a, cli_values, rtol=1e-6, atol=1e-9, equal_nan=True), name
+    x0, cell_m, _, y1, _, _ = res.transform
+    assert (x0, cell_m) == (xll, cell) and y1 == yll + cell * a.shape[0]
+    # rocks(): rocks.csv's columns and values (text as written, numbers to the bit)
+    lines = (cli_out / "rocks.csv").read_text().splitlines()
+    header = lines[0].split(",")
+    rocks = res.rocks()
+    assert list(rocks) == header
+    rows = [line.split(",") for line in lines[1:]]
+    for k, name in enumerate(header):
+        col = rocks[name]
+        for row, v in zip(rows, col):
+            if name == "outcome":
+                assert row[k] == v
+            elif row[k] == "":
+                assert np.isnan(v), name
+            else:
+                assert float(row[k]) == float(v), name
 
 
 def test_same_numbers_as_the_command_line_rigid(tmp_path):
