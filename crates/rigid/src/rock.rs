@@ -263,7 +263,13 @@ fn run(
             event = Event::Impact;
         }
         log.touching_ground = report.ground_contacts > 0;
-        log.motion_steps[motion_mode(world, state, &report)] += 1;
+        let mode = motion_mode(
+            world.stop.stop_speed_ms,
+            state.v_ms.length(),
+            report.ground_contacts,
+            report.slip_ms,
+        );
+        log.motion_steps[mode] += 1;
         if tree_impacts(world, scratch, t, &mut touching, log) {
             event = Event::Tree;
         }
@@ -284,16 +290,16 @@ fn run(
 }
 
 /// The mode of motion of a step, as an index into [`Motion::as_array`] (the rule is
-/// [`Motion`]'s): flight, rolling, sliding on a face, sliding on an edge, slow.
-fn motion_mode(world: &World<'_>, state: &RockState, report: &StepReport) -> usize {
-    let speed = state.v_ms.length();
-    if report.ground_contacts == 0 {
+/// [`Motion`]'s): flight, rolling, sliding on a face, sliding on an edge, slow; from the stop
+/// speed and the centre's speed (m/s), the ground contacts and their mean slip (m/s).
+fn motion_mode(stop_speed_ms: f64, speed_ms: f64, ground_contacts: usize, slip_ms: f64) -> usize {
+    if ground_contacts == 0 {
         0
-    } else if speed < world.stop.stop_speed_ms {
+    } else if speed_ms < stop_speed_ms {
         4
-    } else if report.slip_ms < ROLLING_SLIP_SHARE * speed {
+    } else if slip_ms < ROLLING_SLIP_SHARE * speed_ms {
         1
-    } else if report.ground_contacts >= 3 {
+    } else if ground_contacts >= 3 {
         2
     } else {
         3
@@ -465,4 +471,25 @@ fn finish(
         events: (time_s / world.step.dt_s).round() as u32,
         motion: Motion::from_array(log.motion_steps.map(|n| f64::from(n) * world.step.dt_s)),
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::motion_mode;
+
+    /// The rule of `Motion`, case by case and at its edges: no contact is flight whatever the
+    /// speed; contact below the stop speed is slow; slip under half the speed rolls; else
+    /// three or more contacts slide on a face, one or two on an edge.
+    #[test]
+    fn each_step_gets_the_mode_of_the_rule() {
+        let stop = 0.05;
+        assert_eq!(motion_mode(stop, 10.0, 0, 0.0), 0);
+        assert_eq!(motion_mode(stop, 0.0, 0, 0.0), 0);
+        assert_eq!(motion_mode(stop, 0.04, 3, 0.04), 4);
+        assert_eq!(motion_mode(stop, 10.0, 2, 4.99), 1);
+        assert_eq!(motion_mode(stop, 10.0, 4, 4.99), 1);
+        assert_eq!(motion_mode(stop, 10.0, 3, 5.0), 2);
+        assert_eq!(motion_mode(stop, 10.0, 2, 5.0), 3);
+        assert_eq!(motion_mode(stop, 10.0, 1, 9.0), 3);
+    }
 }
