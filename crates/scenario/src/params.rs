@@ -337,7 +337,7 @@ pub struct OutputSettings {
     pub trajectory_interval_s: f64,
     /// Also write every raster as ESRI ASCII grid (default false: GeoTIFF only).
     pub ascii_rasters: bool,
-    /// Also keep one record per rock and write `rocks.csv` (default false): ≈ 136 bytes of
+    /// Also keep one record per rock and write `rocks.csv` (default false): ≈ 176 bytes of
     /// memory per rock.
     pub rocks_csv: bool,
     /// Also keep one record per screen crossing and write `screen_crossings.csv` (default
