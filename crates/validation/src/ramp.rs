@@ -154,6 +154,82 @@ pub fn case_of(stats: &[(f64, f64); 4], rocks: u64) -> CaseReport {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rockfall_results::{Layout, RunInfo, Tally, TrajectoryRow};
+    use std::sync::Arc;
+
+    fn row(y_m: f64, v: [f64; 3], w_z: f64, e_j: f64, z_m: f64, event: Event) -> TrajectoryRow {
+        TrajectoryRow {
+            rock_id: 0,
+            t_s: 0.0,
+            x_m: 40.0,
+            y_m,
+            z_m,
+            vx_ms: v[0],
+            vy_ms: v[1],
+            vz_ms: v[2],
+            wx_rads: 0.0,
+            wy_rads: 0.0,
+            wz_rads: w_z,
+            e_trans_j: e_j,
+            e_rot_j: 0.0,
+            event,
+        }
+    }
+
+    /// The statistics by hand: two rows above the ramp count; a row past its foot and a
+    /// final row do not. Means and sample standard deviations of (1, 3) kJ, (5, 7) m/s,
+    /// (1, 2) rev/s and (2, 4) m over ground at 0.
+    #[test]
+    fn statistics_take_the_rows_above_the_ramp() {
+        let scenario = rockfall_sites::build(NAME).unwrap();
+        let layout = Arc::new(Layout {
+            trajectories: 1,
+            ..Layout::of(&scenario)
+        });
+        let mut tally = Tally::new(layout.clone());
+        tally.begin_rock(rockfall_results::RockStart {
+            rock_id: 0,
+            source_cell: 0,
+            x_m: 40.0,
+            y_m: 160.0,
+            z_m: 80.0,
+            volume_m3: 0.32,
+            mass_kg: 800.0,
+        });
+        let tau = std::f64::consts::TAU;
+        for r in [
+            row(100.0, [3.0, 4.0, 0.0], tau, 1000.0, 2.0, Event::Flight),
+            row(80.0, [0.0, 7.0, 0.0], 2.0 * tau, 3000.0, 4.0, Event::Roll),
+            row(50.0, [0.0, 50.0, 0.0], 9.0 * tau, 9e6, 40.0, Event::Flight),
+            row(90.0, [0.0, 70.0, 0.0], 9.0 * tau, 9e6, 40.0, Event::Stop),
+        ] {
+            tally.record(r);
+        }
+        tally.end_rock(rockfall_results::RockEnd {
+            outcome: rockfall_results::Outcome::LeftDem,
+            x_m: 40.0,
+            y_m: 0.0,
+            runout_m: 160.0,
+            max_velocity_ms: 70.0,
+            max_jump_height_m: 40.0,
+            tree_impacts: 0,
+            stems_broken: 0,
+            rebounds: 0,
+            time_s: 1.0,
+            events: 4,
+            motion: Default::default(),
+        });
+        let results = Results::new(&layout, tally, RunInfo::default());
+        let s = ramp_statistics(&results, |_, _| Some(0.0));
+        let root2 = 2f64.sqrt();
+        let want = [(2.0, root2), (6.0, root2), (1.5, root2 / 2.0), (3.0, root2)];
+        for (k, ((m, sd), (wm, wsd))) in s.iter().zip(want).enumerate() {
+            assert!(
+                (m - wm).abs() < 1e-12 && (sd - wsd).abs() < 1e-12,
+                "{k}: {m} {sd}"
+            );
+        }
+    }
 
     #[test]
     fn rows_and_errors() {
