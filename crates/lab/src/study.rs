@@ -43,10 +43,33 @@ pub fn expand_shape(item: &str) -> Result<(String, Vec<String>), String> {
             "`{item}`: an ensemble is a rough-rock class and a count, such as rough-flat2.2*10"
         ));
     }
-    Ok((
-        name.clone(),
-        (1..=n).map(|k| format!("{name}-{k}")).collect(),
-    ))
+    Ok((name.clone(), member_names(&name, n)))
+}
+
+/// The members `class-1` … `class-n` of the ensemble `class*n`.
+fn member_names(class: &str, n: u64) -> Vec<String> {
+    (1..=n).map(|k| format!("{class}-{k}")).collect()
+}
+
+impl StudyShape {
+    /// One named shape (`cubic1.2`, `eota221`, …), labelled by its name.
+    pub fn named(name: &str) -> StudyShape {
+        StudyShape {
+            label: name.to_string(),
+            members: vec![(name.to_string(), RockShape::Named(name.to_string()))],
+        }
+    }
+
+    /// The ensemble `class*n` of rough rocks (`rough-flat2.2`, 10): members `class-1` …
+    /// `class-n`, labelled by the class.
+    pub fn ensemble(class: &str, n: u64) -> StudyShape {
+        StudyShape {
+            label: class.to_string(),
+            members: (member_names(class, n).into_iter())
+                .map(|m| (m.clone(), RockShape::Named(m)))
+                .collect(),
+        }
+    }
 }
 
 /// What a shape study runs.

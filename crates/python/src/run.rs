@@ -54,14 +54,6 @@ pub fn run(
     let engine = engine
         .map(|e| e.parse().map_err(|m: String| bad(format!("engine: {m}"))))
         .transpose()?;
-    for (key, n) in [
-        ("rocks_per_cell", rocks_per_cell),
-        ("rocks_per_point", rocks_per_point),
-    ] {
-        if n == Some(0) {
-            return Err(bad(format!("{key}: 0, at least one rock")));
-        }
-    }
     let overrides = Overrides {
         seed,
         rocks_per_cell,

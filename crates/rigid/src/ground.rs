@@ -140,7 +140,7 @@ impl Ground {
         let excess = self.footprint_excess(c, radius, &plane);
         let n_z = s_c.normal()[2];
         if (c.z - plane(c.x, c.y) - excess) * n_z > radius {
-            return self.clearance(c, radius, s_c, n_z);
+            return self.clearance(c, radius, s_c, n_z, &plane);
         }
         // Height of vertex v over the plane: (c.z − plane(c)) + (R v)·m with
         // m = (−∂z/∂x, −∂z/∂y, 1), i.e. v·(Rᵀ m) in the body frame: one dot product per vertex
@@ -172,11 +172,17 @@ impl Ground {
     }
 
     /// The [`Clearance`] of a ball of `radius` at `c`, reaching one cell around it, when the
-    /// ball clears the bound of that wider footprint.
-    fn clearance(&self, c: V3, radius: f64, s_c: &SurfacePoint, n_z: f64) -> Option<Clearance> {
+    /// ball clears the bound of that wider footprint; `plane` is the tangent plane at `c`.
+    fn clearance(
+        &self,
+        c: V3,
+        radius: f64,
+        s_c: &SurfacePoint,
+        n_z: f64,
+        plane: &impl Fn(f64, f64) -> f64,
+    ) -> Option<Clearance> {
         let reach_m = self.lattice.cell_size_m();
-        let plane = |x: f64, y: f64| s_c.z_m + s_c.dzdx * (x - c.x) + s_c.dzdy * (y - c.y);
-        let excess_m = self.footprint_excess(c, radius + reach_m, &plane);
+        let excess_m = self.footprint_excess(c, radius + reach_m, plane);
         let clearance = Clearance {
             anchor_m: [c.x, c.y],
             reach_m,

@@ -23,12 +23,8 @@
 use crate::SiteError;
 use crate::profile::{Profile, Section, sample_dem};
 use rockfall_raster::GridGeometry;
-use rockfall_scenario::{
-    Engine, LumpedSettings, OutputSettings, Release, ReleasePoint, RigidParams, RockSpec, Scenario,
-    SimulationSettings,
-};
+use rockfall_scenario::{Engine, Release, ReleasePoint, RockSpec, Scenario};
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
-use std::collections::BTreeMap;
 
 /// Ramp angle, degrees.
 pub const RAMP_DEG: f64 = 40.0;
@@ -81,32 +77,20 @@ pub fn build() -> Result<Scenario, SiteError> {
     let volume_m3 = BLOCK_MASS_KG / DENSITY_KG_M3;
     let rock =
         RockSpec::named("eota221", Some(volume_m3), DENSITY_KG_M3).ok_or(SiteError::Internal)?;
-    let release = ReleasePoint::at_rest(WIDTH_M / 2.0, g.y_max_m() - ABOVE_M, 2.0);
-    Ok(Scenario {
-        name: "leine-ramp-40".into(),
-        engine: Engine::Rigid,
-        seed: 1,
-        terrain,
-        forest: None,
-        nets: None,
-        rock,
-        release: Release {
-            points: vec![release],
-            ..Release::default()
-        },
-        screens: Vec::new(),
-        lumped: LumpedSettings::default(),
-        rigid: RigidParams::default(),
-        contact: crate::forest_slope::leine_2014_contact(),
-        simulation: SimulationSettings {
-            rocks_per_point: ROCKS,
-            dt_s: 0.002,
-            ..SimulationSettings::default()
-        },
-        output: OutputSettings::default(),
-        sources: BTreeMap::new(),
-        notes: Vec::new(),
-    })
+    let release = Release {
+        points: vec![ReleasePoint::at_rest(
+            WIDTH_M / 2.0,
+            g.y_max_m() - ABOVE_M,
+            2.0,
+        )],
+        ..Release::default()
+    };
+    let mut scenario = Scenario::new("leine-ramp-40", terrain, rock, release);
+    scenario.engine = Engine::Rigid;
+    scenario.contact = crate::forest_slope::leine_2014_contact();
+    scenario.simulation.rocks_per_point = ROCKS;
+    scenario.simulation.dt_s = 0.002;
+    Ok(scenario)
 }
 
 #[cfg(test)]

@@ -20,7 +20,7 @@ use crate::ValidationError;
 use crate::case::{CaseReport, Check, Row};
 use crate::metrics::{error_pct, rmse_pct};
 use crate::run::Validate;
-use rockfall_lab::stats::{bootstrap_mean_ci95, quantile, sorted_finite};
+use rockfall_lab::stats::{describe, quantile, sorted_finite};
 use rockfall_lab::{Impact, Lab, LabSetup, Regime, run_lab};
 use rockfall_scenario::RockShape;
 use std::path::Path;
@@ -57,18 +57,15 @@ pub struct RegimeStats {
 
 /// The statistics of `impacts` in `regime`; `None` without impacts there.
 pub fn regime_stats(impacts: &[Impact], regime: Regime) -> Option<RegimeStats> {
-    let of =
-        |f: fn(&Impact) -> f64| sorted_finite(impacts.iter().filter(|i| i.regime == regime).map(f));
-    let loss = of(Impact::total_energy_loss);
-    if loss.is_empty() {
-        return None;
-    }
+    let of = |f: fn(&Impact) -> f64| impacts.iter().filter(|i| i.regime == regime).map(f);
+    let median = |f| quantile(&sorted_finite(of(f)), 0.5);
+    let loss = describe(of(Impact::total_energy_loss))?;
     Some(RegimeStats {
-        n: loss.len(),
-        loss_mean: loss.iter().sum::<f64>() / loss.len() as f64,
-        loss_ci95: bootstrap_mean_ci95(&loss),
-        rotation_change_p50: quantile(&of(Impact::rotation_change), 0.5),
-        d_e_rot_p50_j: quantile(&of(Impact::d_e_rot_j), 0.5),
+        n: loss.n,
+        loss_mean: loss.mean,
+        loss_ci95: loss.ci95,
+        rotation_change_p50: median(Impact::rotation_change),
+        d_e_rot_p50_j: median(Impact::d_e_rot_j),
     })
 }
 

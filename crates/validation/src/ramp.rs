@@ -8,7 +8,6 @@ use crate::ValidationError;
 use crate::case::{CaseReport, Row};
 use crate::metrics::{error_pct, rmse_pct};
 use crate::run::Validate;
-use rockfall_report::ReportInput;
 use rockfall_results::{Event, Results};
 use rockfall_sim::{Observer, Overrides, Simulation};
 use rockfall_sites::ramp;
@@ -82,20 +81,14 @@ pub fn ramp_case(
     let sim = Simulation::new(scenario, &overrides)?;
     let results = sim.run(true, NAME, observer)?;
     let scenario = sim.scenario();
-    let input = ReportInput {
-        scenario,
-        results: &results,
-        stems: &[],
-        input: format!("built-in site {NAME} (rockfall validate)"),
-        command: v.command.clone(),
-        files: Vec::new(),
-        forest_effect: None,
-        links: Vec::new(),
-        label: String::new(),
-    };
-    let dir = out.join(NAME);
-    let files = rockfall_report::write_run(&dir, false, &input)?;
-    observer.wrote(&dir, &files);
+    crate::run::write_case_run(
+        &out.join(NAME),
+        &sim,
+        &results,
+        format!("built-in site {NAME} (rockfall validate)"),
+        &v.command,
+        observer,
+    )?;
     let dem = &scenario.terrain.dem;
     let stats = ramp_statistics(&results, |x, y| dem.height_m(x, y));
     Ok(case_of(&stats, results.rocks()))

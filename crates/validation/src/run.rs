@@ -11,7 +11,7 @@ use crate::shapes::{EOTA, ROUGH_CLASSES, SHAPES, ShapeStudies, rough_members, sh
 use crate::{CaseReport, Meta, ValidationError, fair, measure, published, write_reports};
 use rockfall_lab::study::{ShapeStudy, StudyShape, run_shape_study};
 use rockfall_report::ReportInput;
-use rockfall_scenario::{LumpedSettings, MohMode, RockShape, Scenario};
+use rockfall_scenario::{LumpedSettings, MohMode, Scenario};
 use rockfall_sim::{Observer, Overrides, Simulation};
 use rockfall_sites::vaujany::{self, Site};
 use std::collections::BTreeMap;
@@ -184,22 +184,14 @@ fn vaujany_cases(
     let sim = Simulation::new(scenario, &overrides)?;
     let (scenario, forest) = (sim.scenario(), sim.stems());
     let results = sim.run(true, name, observer)?;
-    let input = ReportInput {
-        scenario,
-        results: &results,
-        stems: forest.map_or(&[], |f| f.stems()),
-        input: format!(
-            "built-in site {name}, cut where the experiments observed (rockfall validate)"
-        ),
-        command: v.command.clone(),
-        files: Vec::new(),
-        forest_effect: None,
-        links: Vec::new(),
-        label: String::new(),
-    };
-    let dir = out.join(name);
-    let files = rockfall_report::write_run(&dir, false, &input)?;
-    observer.wrote(&dir, &files);
+    write_case_run(
+        &out.join(name),
+        &sim,
+        &results,
+        format!("built-in site {name}, cut where the experiments observed (rockfall validate)"),
+        &v.command,
+        observer,
+    )?;
     let summary = results.summary();
     let records = results.rock_records();
     let site_published: Vec<_> = published().into_iter().filter(|p| p.site == name).collect();
@@ -285,42 +277,7 @@ fn shape_study_case(
         ..Overrides::default()
     };
     let (base, forest) = Simulation::new(rockfall_sites::build(name)?, &overrides)?.into_parts();
-    let one = |n: &str| StudyShape {
-        label: n.to_string(),
-        members: vec![(n.to_string(), RockShape::Named(n.to_string()))],
-    };
-    // the rough classes as ensembles: members of an equal share of the rocks
-    let members = rough_members(v.shape_rocks);
-    let rough = (ROUGH_CLASSES.iter())
-        .map(|c| StudyShape {
-            label: c.to_string(),
-            members: (1..=members)
-                .map(|k| {
-                    let n = format!("{c}-{k}");
-                    (n.clone(), RockShape::Named(n))
-                })
-                .collect(),
-        })
-        .collect();
-    let groups = [
-        (
-            SHAPES.iter().map(|s| one(s)).collect(),
-            v.shape_rocks,
-            out.join(name),
-        ),
-        (
-            rough,
-            (v.shape_rocks / members).max(1),
-            out.join(name).join("rough"),
-        ),
-        (
-            EOTA.iter().map(|s| one(s)).collect(),
-            v.shape_rocks,
-            out.join(name).join("eota"),
-        ),
-    ];
-    let mut studies = Vec::new();
-    for (shapes, rocks, dir) in groups {
+    let study = |shapes: Vec<StudyShape>, rocks: u64, dir: PathBuf| {
         let study = ShapeStudy {
             shapes,
             rocks,
@@ -329,17 +286,55 @@ fn shape_study_case(
             input: "built-in site forest-slope-40 (rockfall shape-study)".into(),
             command: v.command.clone(),
         };
-        studies.push(
-            run_shape_study(&base, &forest, &study, &dir, observer)?
-                .0
-                .stats,
-        );
-    }
-    let [stand_ins, rough, eota]: [Vec<_>; 3] = studies.try_into().unwrap_or_default();
+        run_shape_study(&base, &forest, &study, &dir, observer).map(|(s, _)| s.stats)
+    };
+    // the rough classes as ensembles: members of an equal share of the rocks
+    let members = rough_members(v.shape_rocks);
+    let dir = out.join(name);
     let studies = ShapeStudies {
-        stand_ins,
-        rough,
-        eota,
+        stand_ins: study(
+            SHAPES.map(StudyShape::named).into(),
+            v.shape_rocks,
+            dir.clone(),
+        )?,
+        rough: study(
+            ROUGH_CLASSES
+                .map(|c| StudyShape::ensemble(c, members))
+                .into(),
+            (v.shape_rocks / members).max(1),
+            dir.join("rough"),
+        )?,
+        eota: study(
+            EOTA.map(StudyShape::named).into(),
+            v.shape_rocks,
+            dir.join("eota"),
+        )?,
     };
     Ok(shape_case(name, &studies, v.shape_rocks))
+}
+
+/// Writes the run of `sim` into `dir` as `rockfall run` writes a run (rasters, tables,
+/// report, its forest's stems), telling `observer`; `input` says what was read.
+pub(crate) fn write_case_run(
+    dir: &Path,
+    sim: &Simulation,
+    results: &rockfall_results::Results,
+    input: String,
+    command: &str,
+    observer: &dyn Observer,
+) -> Result<(), ValidationError> {
+    let report = ReportInput {
+        scenario: sim.scenario(),
+        results,
+        stems: sim.stems().map_or(&[], |f| f.stems()),
+        input,
+        command: command.to_string(),
+        files: Vec::new(),
+        forest_effect: None,
+        links: Vec::new(),
+        label: String::new(),
+    };
+    let files = rockfall_report::write_run(dir, false, &report)?;
+    observer.wrote(dir, &files);
+    Ok(())
 }
