@@ -74,6 +74,9 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             // every override before the forest is built: a stand map is expanded from the seed
             let sim = load_simulation(&input, &overrides)?;
             let batched = sim.scenario().simulation.until_stable_pct.is_some();
+            if let Some(tol) = sim.scenario().simulation.until_stable_pct {
+                print_caps(tol, &sim.scenario().simulation);
+            }
             if partition.is_some() || batched {
                 let mut record = RunRecord::new(sim.scenario(), &regional::recorded_input(&input));
                 if let Some(p) = partition {
@@ -205,6 +208,25 @@ pub fn load_simulation(input: &Path, overrides: &Overrides) -> Result<Simulation
     Simulation::new(scenario, overrides).map_err(|e| simulate::sim_failure(e, input))
 }
 
+/// States the caps of a convergence run, and where a scenario named no number of rocks, that
+/// the generous default stands in for it.
+fn print_caps(tol_pct: f64, s: &rockfall_scenario::SimulationSettings) {
+    let cap = rockfall_scenario::UNTIL_STABLE_DEFAULT_CAP;
+    let note = if s.rocks_per_cell == cap || s.rocks_per_point == cap {
+        format!(
+            "; {cap} is the cap of a convergence run whose scenario names no number of rocks \
+             (`--rocks-per-cell`, `--rocks-per-point` or `[simulation]` set one)"
+        )
+    } else {
+        String::new()
+    };
+    println!(
+        "until stable within {tol_pct} %: at most {} rocks per source cell and {} per release \
+         point{note}",
+        s.rocks_per_cell, s.rocks_per_point
+    );
+}
+
 fn check(input: &Path) -> Result<(), Failure> {
     let sim = load_simulation(input, &Overrides::default())?;
     let scenario = sim.scenario();
@@ -218,6 +240,12 @@ fn check(input: &Path) -> Result<(), Failure> {
     print!("{}", Overview::new(scenario, sim.forest()));
     if let Some(hull) = hull {
         println!("{hull}");
+    }
+    let prepared = sim.prepare().map_err(|e| simulate::sim_failure(e, input))?;
+    if let Some((held, of)) = prepared.held_releases()
+        && let Some(w) = rockfall_sim::held_warning("releases", held as u64, of as u64)
+    {
+        println!("{w}");
     }
     Ok(())
 }

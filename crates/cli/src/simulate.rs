@@ -292,6 +292,9 @@ pub fn print_summary(title: &str, results: &Results) {
             f(sc.jump_height_m.p95)
         );
     }
+    if let Some(w) = rockfall_sim::held_warning("rocks", s.held_at_release, s.rocks) {
+        println!("{w}");
+    }
 }
 
 /// `rockfall demo`: vaujany-site2 with and without its forest.

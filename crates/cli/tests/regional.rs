@@ -330,3 +330,52 @@ fn a_new_share_in_an_old_folder_removes_the_old_tallies_and_merge_finds_a_moved_
     assert!(m2.join("report.html").exists());
     same_outputs(&m, &m2);
 }
+
+#[test]
+fn until_stable_without_a_number_of_rocks_caps_at_a_million_and_says_so() {
+    let (tmp, scenario) = site2();
+    // the scenario names no number of rocks: the 100 per cell of a plain run is no cap
+    let text = std::fs::read_to_string(&scenario).unwrap();
+    assert!(text.contains("rocks_per_cell = 10000\n"));
+    std::fs::write(&scenario, text.replace("rocks_per_cell = 10000\n", "")).unwrap();
+    let out = tmp.path().join("out");
+    let stdout = ok(rockfall(&[
+        "run",
+        s(&scenario),
+        "--out",
+        s(&out),
+        "--until-stable",
+        "3",
+    ]));
+    assert!(
+        stdout.contains("at most 1000000 rocks per source cell")
+            && stdout.contains("names no number of rocks"),
+        "{stdout}"
+    );
+    let c = &json(&out.join("summary.json"))["convergence"];
+    assert_eq!(c["cap_hit"], false, "{c}");
+    assert_eq!(c["rocks_per_cell"], c["rocks"], "{c}");
+    assert!(c["rocks"].as_u64().unwrap() > 100, "{c}");
+
+    // a number given on the command line is the cap, and the note is not printed
+    let capped = tmp.path().join("capped");
+    let stdout = ok(rockfall(&[
+        "run",
+        s(&scenario),
+        "--out",
+        s(&capped),
+        "--until-stable",
+        "3",
+        "--rocks-per-cell",
+        "40",
+    ]));
+    assert!(
+        stdout.contains("at most 40 rocks per source cell") && !stdout.contains("names no"),
+        "{stdout}"
+    );
+    let c = &json(&capped.join("summary.json"))["convergence"];
+    assert_eq!(
+        (c["cap_hit"].as_bool(), c["rocks"].as_u64()),
+        (Some(true), Some(40))
+    );
+}

@@ -214,12 +214,42 @@ fn rockyfor3d_folder_of_the_site_runs() {
     let (tmp, dir) = site();
     // the site folder is also a Rockyfor3D input folder (rockdensity.asc, d1–d3, treefile.txt)
     assert!(dir.join("rockdensity.asc").exists() && dir.join("treefile.txt").exists());
+    // a folder releases its rocks at rest on the ground (no height, no speed): on the site's
+    // 20° platform of talus (rolling friction 0.65 > tan 20°) the ground holds every one,
+    // and `check` and `run` say so, naming the keys that start them
+    let checked = ok(rockfall(&["check", s(&dir)]));
+    assert!(
+        checked.contains("warning: 1 of 1 releases stay in their release cell")
+            && checked.contains("[release] velocity_ms"),
+        "{checked}"
+    );
     let out = tmp.path().join("out");
-    let sum = run(&dir, &out, &["--threads", "2"]);
-    // a Rockyfor3D folder releases 100 rocks per source cell by default, and has no screens
-    check_summary(&sum, 100, 2, 1, 0);
+    let stdout = ok(rockfall(&[
+        "run",
+        s(&dir),
+        "--out",
+        s(&out),
+        "--threads",
+        "2",
+    ]));
+    assert!(
+        stdout.contains("warning: 100 of 100 rocks stay in their release cell"),
+        "{stdout}"
+    );
+    let sum: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    // a Rockyfor3D folder releases 100 rocks per source cell by default
+    assert_eq!(
+        (sum["rocks"].as_u64(), sum["held_at_release"].as_u64()),
+        (Some(100), Some(100))
+    );
+    assert_eq!(sum["runout_m"]["max"], 0.0, "{sum}");
     check_trajectories(&out);
     check_rasters(&out, "tif", &dem(&dir));
+
+    // the scenario form of the same site starts them (0.5 m drop, 1 m/s): no warning
+    let checked = ok(rockfall(&["check", s(&dir.join("scenario.toml"))]));
+    assert!(!checked.contains("warning"), "{checked}");
 }
 
 /// summary.json without the keys that depend on timing and threads.

@@ -87,6 +87,7 @@ pub fn read_folder(dir: &Path) -> Result<Scenario, InputError> {
     let surface = SurfaceMap {
         soil_type: field("soiltype", soiltype),
         r_n: None,
+        rolling_friction: None,
         rg70_m: field("rg70", rg70),
         rg20_m: field("rg20", rg20),
         rg10_m: field("rg10", rg10),
@@ -154,13 +155,16 @@ pub fn read_folder(dir: &Path) -> Result<Scenario, InputError> {
         cells,
         ..Release::default()
     };
-    let scenario = Scenario {
+    let mut scenario = Scenario {
         forest,
         nets,
         sources,
         notes,
         ..Scenario::new(&name, terrain, rock, release)
     };
+    // a folder names no number of rocks: the defaults stand in for them
+    scenario.simulation.rocks_per_cell_given = false;
+    scenario.simulation.rocks_per_point_given = false;
     scenario
         .validate()
         .map_err(|e| scenario_error(e, &scenario.sources, &dem_path))?;

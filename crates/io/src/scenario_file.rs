@@ -67,11 +67,13 @@ struct Resolver {
 }
 
 /// What a per-cell key burnt from polygons takes outside every polygon: its default, except
-/// for keys without one (r_n, the rock's dimensions and shape: an error) and the stand keys
+/// for keys without one (r_n, rolling_friction, the rock's dimensions and shape: an error) and the stand keys
 /// (no value: no stand there). Ours: the scenario format has no other place to say it.
 fn outside(param: &str, default: f64) -> Outside {
     match param {
-        "r_n" | "rock.d1_m" | "rock.d2_m" | "rock.d3_m" | "rock.blshape" => Outside::Error,
+        "r_n" | "rolling_friction" | "rock.d1_m" | "rock.d2_m" | "rock.d3_m" | "rock.blshape" => {
+            Outside::Error
+        }
         "nrtrees" | "dbhmean" | "dbhstd" => Outside::Nodata,
         _ => Outside::Default(default),
     }
@@ -216,6 +218,9 @@ impl Resolver {
         let surface = SurfaceMap {
             soil_type: self.field("soiltype", t.soiltype, DEFAULT_SOILTYPE as f64)?,
             r_n: t.r_n.map(|p| self.field("r_n", Some(p), 0.0)).transpose()?,
+            rolling_friction: (t.rolling_friction)
+                .map(|p| self.field("rolling_friction", Some(p), 0.0))
+                .transpose()?,
             rg70_m: self.field("rg70", t.rg70_m, 0.0)?,
             rg20_m: self.field("rg20", t.rg20_m, 0.0)?,
             rg10_m: self.field("rg10", t.rg10_m, 0.0)?,
@@ -537,6 +542,7 @@ impl Resolver {
             lift_off_obstacle_factor: l
                 .lift_off_obstacle_factor
                 .unwrap_or(d.lift_off_obstacle_factor),
+            soil_friction_scale: l.soil_friction_scale.unwrap_or(d.soil_friction_scale),
         })
     }
 }
@@ -582,13 +588,21 @@ fn contact(c: Option<schema::ContactSec>) -> ContactSettings {
 
 fn simulation(s: Option<schema::SimulationSec>) -> SimulationSettings {
     let d = SimulationSettings::default();
-    let Some(s) = s else { return d };
+    let Some(s) = s else {
+        return SimulationSettings {
+            rocks_per_cell_given: false,
+            rocks_per_point_given: false,
+            ..d
+        };
+    };
     SimulationSettings {
         dt_s: s.dt_s.unwrap_or(d.dt_s),
         max_time_s: s.max_time_s.unwrap_or(d.max_time_s),
         rocks_per_cell: s.rocks_per_cell.unwrap_or(d.rocks_per_cell),
         rocks_per_point: s.rocks_per_point.unwrap_or(d.rocks_per_point),
         until_stable_pct: s.until_stable_pct,
+        rocks_per_cell_given: s.rocks_per_cell.is_some(),
+        rocks_per_point_given: s.rocks_per_point.is_some(),
     }
 }
 

@@ -71,6 +71,7 @@ pub struct TerrainSec {
     pub epsg: Option<u32>,
     pub soiltype: Option<Param>,
     pub r_n: Option<Param>,
+    pub rolling_friction: Option<Param>,
     pub rg70_m: Option<Param>,
     pub rg20_m: Option<Param>,
     pub rg10_m: Option<Param>,
@@ -175,6 +176,7 @@ pub struct LumpedSec {
     pub rn_velocity_scale_ms: Option<f64>,
     pub roughness_tilt_factor: Option<f64>,
     pub lift_off_obstacle_factor: Option<f64>,
+    pub soil_friction_scale: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

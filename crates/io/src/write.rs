@@ -157,6 +157,9 @@ impl Writer {
         if let Some(r) = &sf.r_n {
             t += &self.param("r_n", "r_n.asc", r)?;
         }
+        if let Some(m) = &sf.rolling_friction {
+            t += &self.param("rolling_friction", "rolling_friction.asc", m)?;
+        }
         t += &self.param("rg70_m", "rg70.asc", &sf.rg70_m)?;
         t += &self.param("rg20_m", "rg20.asc", &sf.rg20_m)?;
         t += &self.param("rg10_m", "rg10.asc", &sf.rg10_m)?;
@@ -294,7 +297,7 @@ fn settings_toml(s: &Scenario, t: &mut String) {
     let moh = l.moh.name();
     let _ = write!(
         t,
-        "\n[lumped]\nmoh = \"{moh}\"\ntangential_law = \"{}\"\nrt_variation = {}\nslope_reduction_max_deg = {}\nmax_lateral_deviation_deg = {}\nstop_velocity_ms = {}\nrn_velocity_scale_ms = {}\nroughness_tilt_factor = {}\nlift_off_obstacle_factor = {}\n",
+        "\n[lumped]\nmoh = \"{moh}\"\ntangential_law = \"{}\"\nrt_variation = {}\nslope_reduction_max_deg = {}\nmax_lateral_deviation_deg = {}\nstop_velocity_ms = {}\nrn_velocity_scale_ms = {}\nroughness_tilt_factor = {}\nlift_off_obstacle_factor = {}\nsoil_friction_scale = {}\n",
         l.tangential.name(),
         num(l.rt_variation),
         num(l.slope_reduction_max_deg),
@@ -302,7 +305,8 @@ fn settings_toml(s: &Scenario, t: &mut String) {
         num(l.stop_velocity_ms),
         num(l.rn_velocity_scale_ms),
         num(l.roughness_tilt_factor),
-        num(l.lift_off_obstacle_factor)
+        num(l.lift_off_obstacle_factor),
+        num(l.soil_friction_scale)
     );
     let r = &s.rigid;
     let _ = write!(

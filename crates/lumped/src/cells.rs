@@ -4,7 +4,7 @@
 //! classes, obstacle-height classes), so the engine keeps a palette of the distinct
 //! [`CellParams`] and one 2-byte index per cell — or nothing per cell when every valid cell
 //! has the same parameters (constant parameters, no nets). Only a scenario with more than
-//! 65 535 distinct sets falls back to one [`CellParams`] (64 bytes) per cell.
+//! 65 535 distinct sets falls back to one [`CellParams`] (72 bytes) per cell.
 
 use std::collections::HashMap;
 
@@ -22,6 +22,9 @@ pub struct CellParams {
     pub moh_m: [f64; 3],
     /// Cover-weighted mean obstacle height, m (seed 000 eq. 4).
     pub moh_mean_m: f64,
+    /// Rolling friction tan φ of the ground material (STONE per soil class, or the
+    /// `rolling_friction` map), dimensionless.
+    pub soil_mu: f64,
     /// Id of the net standing in the cell (`net_number`; 0: none).
     pub net_id: u32,
     /// Energy one net absorbs, J.
@@ -36,19 +39,21 @@ impl CellParams {
         r_n: 0.0,
         moh_m: [0.0; 3],
         moh_mean_m: 0.0,
+        soil_mu: 0.0,
         net_id: 0,
         net_energy_j: 0.0,
         net_height_m: 0.0,
     };
 
     /// The bits of every field: equal keys, identical parameters.
-    fn key(&self) -> [u64; 8] {
+    fn key(&self) -> [u64; 9] {
         [
             self.r_n.to_bits(),
             self.moh_m[0].to_bits(),
             self.moh_m[1].to_bits(),
             self.moh_m[2].to_bits(),
             self.moh_mean_m.to_bits(),
+            self.soil_mu.to_bits(),
             u64::from(self.net_id),
             self.net_energy_j.to_bits(),
             self.net_height_m.to_bits(),
@@ -101,7 +106,7 @@ impl CellMap {
             }
         }
         let mut palette = vec![CellParams::NONE];
-        let mut known: HashMap<[u64; 8], u16> = HashMap::from([(CellParams::NONE.key(), 0)]);
+        let mut known: HashMap<[u64; 9], u16> = HashMap::from([(CellParams::NONE.key(), 0)]);
         let mut index: Vec<u16> = Vec::with_capacity(g.len());
         let mut last: Option<(CellParams, u16)> = None;
         for row in 0..g.nrows {
@@ -188,6 +193,7 @@ fn cell_params(
         r_n: s.r_n,
         moh_m: [s.rg70_m, s.rg20_m, s.rg10_m],
         moh_mean_m: s.mean_obstacle_height_m(),
+        soil_mu: s.rolling_friction,
         // validated: a whole number in 0 ..= u32::MAX
         net_id: id as u32,
         net_energy_j: energy_kj * 1e3,

@@ -185,7 +185,8 @@ impl Rock<'_, '_, '_> {
         let Some(cell) = self.current_cell() else {
             return Some(Outcome::LeftDem);
         };
-        let moh = ground.cell(cell).moh_mean_m;
+        let params = ground.cell(cell);
+        let moh = params.moh_mean_m;
         let n = (self.memo.surface(ground, self.p.x, self.p.y)).map_or(V3::Z, |s| s.normal_v3());
         if self.moved
             && moh > 0.0
@@ -202,10 +203,16 @@ impl Rock<'_, '_, '_> {
                 return None;
             }
         }
-        let mu = friction_coefficient(moh, self.body.radius_m);
+        let settings = self.world.settings;
+        let mu = friction_coefficient(
+            moh,
+            self.body.radius_m,
+            params.soil_mu,
+            settings.soil_friction_scale,
+        );
         let mut input = RollInput {
             mu_r: mu,
-            stop_ms: self.world.settings.stop_velocity_ms,
+            stop_ms: settings.stop_velocity_ms,
             moved: self.moved,
             dt_cap_s: ROLL_DT_MAX_S,
             allow_fly: !std::mem::take(&mut self.hold_ground),

@@ -38,7 +38,7 @@ pub use vec3::V3;
 
 use body::RockBody;
 use forestry::Trees;
-use ground::Ground;
+use ground::{Ground, SurfNormal};
 use rockfall_engine::{Engine, Origin, Release, Rock};
 use rockfall_forest::Forest;
 use rockfall_results::{ScreenSet, Tally};
@@ -109,6 +109,33 @@ impl<'f> LumpedModel<'f> {
     /// The engine's terrain.
     pub fn ground(&self) -> &Ground {
         &self.ground
+    }
+
+    /// Whether `launch` puts its rock at rest on the ground (no speed, no drop) where the
+    /// ground holds it: the rolling friction there ([`roll::friction_coefficient`]) is at
+    /// least the tangent of the slope, so that gravity along the ground, `g sin θ`, cannot
+    /// overcome `μ g cos θ` (the stop rule of [`roll::roll_step`]). Such a rock never moves.
+    /// (A rock given a speed or a drop may still stop in its cell; only a run tells.)
+    pub fn holds_at_rest(&self, launch: &Launch) -> bool {
+        let Some(s) = self.ground.surface(launch.p.x, launch.p.y) else {
+            return false;
+        };
+        let r = launch.body.radius_m;
+        let on_ground = (self.ground.centre_z_m(launch.p.x, launch.p.y, r))
+            .is_some_and(|z| launch.p.z - z <= 1e-9);
+        if launch.v != V3::ZERO || !on_ground {
+            return false;
+        }
+        let n = s.normal_v3();
+        let tan_slope = (1.0 - n.z * n.z).max(0.0).sqrt() / n.z;
+        let cell = self.ground.cell(launch.source_cell);
+        let mu = roll::friction_coefficient(
+            cell.moh_mean_m,
+            launch.body.radius_m,
+            cell.soil_mu,
+            self.settings.soil_friction_scale,
+        );
+        tan_slope <= mu
     }
 
     /// Stems in the run.

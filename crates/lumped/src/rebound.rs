@@ -306,6 +306,7 @@ mod tests {
             r_n,
             moh_m: [moh; 3],
             moh_mean_m: moh,
+            soil_mu: 0.65,
             net_id: 0,
             net_energy_j: 0.0,
             net_height_m: 0.0,

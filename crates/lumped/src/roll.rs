@@ -7,15 +7,30 @@
 //! plane, `n_z` the vertical component of the surface normal, `û` the direction of motion and
 //! `k = m R² / (m R² + I)` (5/7 for a sphere).
 //!
-//! **Friction law.** The rock rolls (and slides) against the surface's friction angle φ
-//! with `tan φ = (1 − r_t) / r_t`, the lumped-mass friction angle RocFall derives from the
-//! tangential coefficient of restitution (Rocscience, RocFall manual, "Analysis method":
-//! "Phi = arctan[(1 – Rt)/Rt]"). With r_t of seed 000 eq. 3, `r_t = 1/(1 + MOH/R)`, this is
-//! `μ = MOH / R`, MOH the cell's mean obstacle height (eq. 4): the same roughness that sets
-//! the rebound's r_t, and "for larger rocks the effective surface roughness is lower" (seed
-//! 000 §2.5, after Kirkby & Statham 1975). A rock of R = 0.5 m on scree of MOH 0.39 m rolls
-//! against μ = 0.78 (38°) and comes to rest on a 30° slope; on a forest road (MOH ≈ 0.01 m)
-//! μ = 0.02.
+//! The equation is Azzoni, La Barbera & Zaninetti's (1995, CADMA) rolling law,
+//! `a = g (sin α − tan φ cos α) / (1 + I/(m R²))` on a slope α, as PlatRock's `Azzoni_Roll`
+//! implements it, written in 3-D.
+//!
+//! **Friction law.** The rock rolls (and slides) against the larger of two resistances:
+//! - **The ground material's**, `tan φ_soil`: STONE's dynamic rolling friction per ground
+//!   class (Guzzetti et al. 2002; 0.30 on bedrock to 0.80 on colluvium and 0.95 in water,
+//!   [`rockfall_terrain::SoilType::rolling_friction`]), or the scenario's `rolling_friction`
+//!   map, times the setting `soil_friction_scale` (default 1). Soft ground brakes a rolling
+//!   rock more than bedrock does: a sphere reaching flat meadow at 20 m/s rolls
+//!   `v² / (2 · 5/7 · g · 0.80) ≈ 36 m`.
+//! - **The roughness's**, `tan φ = (1 − r_t) / r_t`, the lumped-mass friction angle RocFall
+//!   derives from the tangential coefficient of restitution (Rocscience, RocFall manual,
+//!   "Analysis method": "Phi = arctan[(1 – Rt)/Rt]"). With r_t of seed 000 eq. 3,
+//!   `r_t = 1/(1 + MOH/R)`, this is `μ = MOH / R`, MOH the cell's mean obstacle height
+//!   (eq. 4): the same roughness that sets the rebound's r_t, and "for larger rocks the
+//!   effective surface roughness is lower" (seed 000 §2.5, after Kirkby & Statham 1975). A
+//!   rock of R = 0.5 m on scree of MOH 0.39 m rolls against μ = 0.78 (38°).
+//!
+//! **Taking the larger of the two is ours.** STONE's coefficient is one per terrain class and
+//! holds that terrain's usual roughness; RocFall's follows the obstacles met. The larger
+//! keeps both meanings without counting the obstacles twice (a sum would hold a 0.5 m rock
+//! on 48° scree). `soil_friction_scale = 0` restores the roughness term alone; the
+//! sensitivity table of `rockfall validate` moves it.
 //!
 //! **Stepping.** Each step covers at most a quarter of a cell. The speed comes from the work–
 //! energy balance over the step (gravity's work on the actual height change of the centre,
@@ -84,11 +99,13 @@ pub struct RollInput {
     pub allow_fly: bool,
 }
 
-/// Friction coefficient of a rolling rock, `μ = tan φ = (1 − r_t)/r_t = MOH / R` (RocFall's
-/// friction angle from r_t, with r_t of seed 000 eq. 3; see the module docs). MOH and R in m.
+/// Friction coefficient of a rolling rock, dimensionless: the larger of the ground material's
+/// `soil_scale · tan φ_soil` (STONE, Guzzetti et al. 2002) and the roughness's
+/// `(1 − r_t)/r_t = MOH / R` (RocFall's friction angle from r_t, with r_t of seed 000 eq. 3);
+/// the maximum is ours (see the module docs). MOH and R in m.
 #[inline]
-pub fn friction_coefficient(moh_mean_m: f64, radius_m: f64) -> f64 {
-    moh_mean_m / radius_m
+pub fn friction_coefficient(moh_mean_m: f64, radius_m: f64, soil_mu: f64, soil_scale: f64) -> f64 {
+    (moh_mean_m / radius_m).max(soil_scale * soil_mu)
 }
 
 /// One rolling step from centre `p` (R from the ground along the normal) with velocity `v` (tangent).

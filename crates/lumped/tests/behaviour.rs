@@ -137,10 +137,19 @@ fn smoother_ground_spreads_less() {
     assert!(smooth < 0.7 * rough, "smooth {smooth} vs rough {rough}");
 }
 
+/// `t` on soil type class `class` (its r_n and its rolling friction).
+fn on_soil(mut t: Terrain, class: u8) -> Terrain {
+    t.surface.soil_type = Field::Const(f64::from(class));
+    t
+}
+
 #[test]
 fn rougher_ground_shortens_the_runout() {
+    // on bedrock (class 6, rolling friction 0.30): on softer ground the soil's friction
+    // outweighs MOH / R for these obstacles, and roughness acts through the rebounds alone
     let runout = |rg: [f64; 3]| {
-        let s = scenario(plane(35.0, 150.0, 700.0, rg, None), 1000, 0.0, 1.0);
+        let t = on_soil(plane(35.0, 150.0, 700.0, rg, None), 6);
+        let s = scenario(t, 1000, 0.0, 1.0);
         let res = run(&s, None, 0);
         let recs = res.rock_records();
         // on the wide site no rock leaves by a side, nor by the foot
@@ -150,7 +159,7 @@ fn rougher_ground_shortens_the_runout() {
         );
         quantile(recs.iter().map(|r| r.end.runout_m).collect(), 0.5)
     };
-    // (measured: 440, 265 and 182 m)
+    // (measured: 284, 232 and 179 m)
     let (smooth, medium, rough) = (
         runout([0.02, 0.05, 0.1]),
         runout([0.05, 0.1, 0.2]),
@@ -159,6 +168,49 @@ fn rougher_ground_shortens_the_runout() {
     assert!(
         rough < 0.9 * medium && medium < 0.9 * smooth,
         "median run-out {rough} < {medium} < {smooth} m"
+    );
+}
+
+#[test]
+fn softer_ground_stops_rolling_rocks_sooner() {
+    // a 35° slope of 150 m onto flat ground, smooth (MOH/R ≤ 0.08): the soil decides how far
+    // rocks roll on the flat; rocks arrive from a 2 m drop at 5 m/s
+    let past_foot = |class: u8| {
+        let t = on_soil(plane(35.0, 150.0, 500.0, [0.02, 0.05, 0.1], None), class);
+        let foot_y = top_y(&t) - 150.0;
+        let s = scenario(t, 1000, 2.0, 5.0);
+        let res = run(&s, None, 0);
+        let recs = res.rock_records();
+        assert!(
+            recs.iter()
+                .all(|r| matches!(r.end.outcome, Outcome::Stopped { .. }))
+        );
+        quantile(recs.iter().map(|r| foot_y - r.end.y_m).collect(), 0.5)
+    };
+    // bedrock (0.30), talus (0.65), deep fine soil (0.80); measured 143, 79 and 40 m, and
+    // 420 m of run-out without the soil's friction
+    let (bedrock, talus, fine) = (past_foot(6), past_foot(4), past_foot(1));
+    assert!(
+        fine < 0.9 * talus && talus < 0.6 * bedrock,
+        "median stop past the foot: fine soil {fine} < talus {talus} < bedrock {bedrock} m"
+    );
+    // the soil's friction alone, scaled to 0, gives back the roughness rule: far longer
+    let mut s = scenario(
+        on_soil(plane(35.0, 150.0, 500.0, [0.02, 0.05, 0.1], None), 4),
+        1000,
+        2.0,
+        5.0,
+    );
+    s.lumped.soil_friction_scale = 0.0;
+    let without = quantile(
+        (run(&s, None, 0).rock_records().iter())
+            .map(|r| r.end.runout_m)
+            .collect(),
+        0.5,
+    );
+    assert!(
+        without > 150.0 + 2.0 * talus,
+        "{without} m without the soil's friction"
     );
 }
 

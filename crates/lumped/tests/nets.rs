@@ -36,6 +36,7 @@ fn scenario() -> Scenario {
     let surface = SurfaceMap {
         soil_type: Field::Const(4.0),
         r_n: None,
+        rolling_friction: None,
         rg70_m: Field::Const(0.05),
         rg20_m: Field::Const(0.1),
         rg10_m: Field::Const(0.2),

@@ -230,6 +230,51 @@ fn sphere_rolls_down_a_smooth_plane_at_five_sevenths_g_sin_theta() {
 }
 
 #[test]
+fn sphere_rolling_on_flat_soil_stops_after_v2_over_2_k_g_mu() {
+    // flat ground without obstacles: the ground material's friction alone, μ = scale · tan φ;
+    // Azzoni et al. 1995: a = 5/7 g μ, so the rock stops after v0² / (2 · 5/7 · g · μ)
+    let v0 = 8.0;
+    for (mu_soil, scale) in [(0.3, 1.0), (0.8, 1.0), (0.8, 0.5)] {
+        let t = common::with_soil_friction(
+            terrain((80, 20, 2.0), |_, _| 50.0, [0.0; 3], None),
+            Some(mu_soil),
+        );
+        // released rolling: ω = n × v / R
+        let point = ReleasePoint {
+            velocity_ms: [v0, 0.0, 0.0],
+            angular_velocity_rads: [0.0, v0 / R, 0.0],
+            ..ReleasePoint::at_rest(10.0, 20.0, 0.0)
+        };
+        let mut s = scenario(t, vec![point], 1);
+        s.lumped.soil_friction_scale = scale;
+        let res = run(&s, None, 1);
+        let mu = mu_soil * scale;
+        let expected = v0 * v0 / (2.0 * 5.0 / 7.0 * G_MS2 * mu);
+        let sum = res.summary_json();
+        assert_eq!(sum["outcomes"]["stopped"], 1, "{sum}");
+        let runout = f!(sum["runout_m"]["max"]);
+        // the last step stops within the stop velocity's distance, 0.1² / (2 a)
+        assert!(
+            (runout - expected).abs() < 1e-3 * expected + 0.01,
+            "μ {mu}: {runout} m vs {expected} m"
+        );
+    }
+    // the roughness's MOH / R takes over where it is the larger: MOH 0.25 m, R 0.5 m → 0.5
+    assert_eq!(
+        rockfall_lumped::roll::friction_coefficient(0.25, R, 0.3, 1.0),
+        0.5
+    );
+    assert_eq!(
+        rockfall_lumped::roll::friction_coefficient(0.05, R, 0.3, 1.0),
+        0.3
+    );
+    assert_eq!(
+        rockfall_lumped::roll::friction_coefficient(0.05, R, 0.3, 0.0),
+        0.1
+    );
+}
+
+#[test]
 fn sphere_at_rest_on_flat_ground_stays_where_released() {
     for rg in [0.0, 0.1] {
         let t = terrain((20, 20, 2.0), |_, _| 50.0, [rg; 3], None);
@@ -338,6 +383,7 @@ fn rough_site(seed: u64) -> (Scenario, Forest) {
             Some(f64::from(rng.random_range(1u8..=6)))
         })),
         r_n: None,
+        rolling_friction: None,
         rg70_m: per_cell(0.0, 0.05, &mut rng),
         rg20_m: per_cell(0.02, 0.1, &mut rng),
         rg10_m: per_cell(0.05, 0.3, &mut rng),

@@ -44,7 +44,10 @@ fn scenario(rg: [f64; 3]) -> Scenario {
         let (_, y) = g.cell_center(row, col);
         Some(tan * (SLOPE_M - down_m(y)).max(0.0))
     });
-    let surface = SurfaceMap::uniform(SoilType::new(3).unwrap(), rg[0], rg[1], rg[2]);
+    let mut surface = SurfaceMap::uniform(SoilType::new(3).unwrap(), rg[0], rg[1], rg[2]);
+    // no rolling friction of the ground material: the rocks roll far enough onto the flat
+    // for the forest and the roughness to show (behaviour.rs checks the soil's friction)
+    surface.rolling_friction = Some(rockfall_raster::Field::Const(0.0));
     let terrain = Terrain::new(Dem::new(dem).unwrap(), surface).unwrap();
     let release = Release {
         cells: vec![g.index(3, NCOLS / 2)],

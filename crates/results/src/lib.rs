@@ -46,6 +46,7 @@ mod cells;
 mod codec;
 mod convergence;
 mod distribution;
+pub mod fair;
 mod forest_effect;
 mod hist;
 mod parameters;

@@ -40,7 +40,7 @@ use crate::{
 };
 
 /// Version of the tally file format this build reads and writes.
-pub const TALLY_FORMAT: u32 = 4;
+pub const TALLY_FORMAT: u32 = 5;
 
 /// File name of a run folder's exact tallies.
 pub const TALLY_FILE: &str = "rockfall.tally";
@@ -308,7 +308,13 @@ fn body(e: &mut Enc, t: &Tally) {
     for s in [&r.runout, &r.max_velocity, &r.max_jump, &r.time] {
         stat(e, s);
     }
-    for n in [r.tree_impacts, r.stems_broken, r.rebounds, r.events] {
+    for n in [
+        r.tree_impacts,
+        r.stems_broken,
+        r.rebounds,
+        r.events,
+        r.held_at_release,
+    ] {
         e.u64(n);
     }
     for &n in &r.motion_us {
@@ -417,6 +423,7 @@ fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeError> {
         &mut r.stems_broken,
         &mut r.rebounds,
         &mut r.events,
+        &mut r.held_at_release,
     ] {
         *n = d.u64()?;
     }

@@ -53,6 +53,14 @@ pub struct Summary {
     pub failed_fraction: Option<f64>,
     /// Rocks per outcome.
     pub outcomes: Outcomes,
+    /// Rocks that came to rest in the cell they were released from: released where the ground
+    /// holds a rock at rest (the lumped engine's rolling friction at least the tangent of the
+    /// slope), they never left it. `[release] height_m` and `velocity_ms` start them moving.
+    #[serde(default)]
+    pub held_at_release: u64,
+    /// `held_at_release` / rocks (`None` without rocks).
+    #[serde(default)]
+    pub held_at_release_fraction: Option<f64>,
     /// Run-out (horizontal distance from release to end point) over rocks, m.
     pub runout_m: Runout,
     /// Each rock's largest translational speed, over rocks, m/s.
@@ -271,6 +279,8 @@ impl Results {
                 time_limit,
                 failed,
             },
+            held_at_release: r.held_at_release,
+            held_at_release_fraction: fraction(r.held_at_release, rocks),
             runout_m: Runout {
                 p50: finite(r.runout.percentile(50.0)),
                 p95: finite(r.runout.percentile(95.0)),

@@ -50,6 +50,8 @@ pub(crate) struct RockStats {
     pub(crate) rebounds: u64,
     /// Sum of the engine's events (see [`crate::RockEnd::events`]).
     pub(crate) events: u64,
+    /// Rocks that came to rest in the cell they were released from (the ground held them).
+    pub(crate) held_at_release: u64,
     /// Sum of the rocks' [`crate::Motion`] times, each rounded to whole microseconds (exact
     /// in any order of summation).
     pub(crate) motion_us: [u64; 5],
@@ -82,6 +84,7 @@ impl RockStats {
             stems_broken: 0,
             rebounds: 0,
             events: 0,
+            held_at_release: 0,
             motion_us: [0; 5],
         }
     }
@@ -98,6 +101,7 @@ impl RockStats {
         self.stems_broken += o.stems_broken;
         self.rebounds += o.rebounds;
         self.events += o.events;
+        self.held_at_release += o.held_at_release;
         for (a, b) in self.motion_us.iter_mut().zip(&o.motion_us) {
             *a += b;
         }
@@ -273,7 +277,13 @@ impl Tally {
     /// kept (release position from [`Tally::begin_rock`], `end` as given).
     pub fn end_rock(&mut self, end: RockEnd) {
         debug_assert!(self.current.is_some(), "end_rock without begin_rock");
-        if let Some(c) = self.current.take()
+        let current = self.current.take();
+        if let (Some(c), Outcome::Stopped { cell }) = (&current, end.outcome)
+            && c.start.source_cell == cell
+        {
+            self.rock.held_at_release += 1;
+        }
+        if let Some(c) = current
             && self.layout.rock_ends
         {
             let s = c.start;

@@ -265,3 +265,23 @@ fn passing_height_percentiles_by_nearest_rank() {
         );
     }
 }
+
+#[test]
+fn rocks_at_rest_in_their_release_cell_are_counted_as_held() {
+    let layout = common::layout();
+    let mut t = Tally::new(layout);
+    let cases = [
+        (1, Outcome::Stopped { cell: 1 }),    // held
+        (1, Outcome::Stopped { cell: 2 }),    // left its cell
+        (3, Outcome::NetStopped { cell: 3 }), // a net is no ground
+        (3, Outcome::LeftDem),
+        (4, Outcome::Stopped { cell: 4 }), // held
+    ];
+    for (id, (source, outcome)) in cases.into_iter().enumerate() {
+        t.begin_rock(start(id as u64, source));
+        t.end_rock(end(outcome));
+    }
+    let s = Results::new(&common::layout(), t, RunInfo::default()).summary();
+    assert_eq!(s.held_at_release, 2);
+    assert_eq!(s.held_at_release_fraction, Some(0.4));
+}

@@ -128,8 +128,18 @@ const OLD_RIGID_PARAMETERS: [&str; 21] = [
 ];
 /// What the rigid parameters gained: the `[rigid]` settings under their scenario-file keys.
 /// Keys added since: the engine's events (flight arcs and rolling steps, or time steps), and
-/// the shares of the modes of motion (rigid engine; `null` for the lumped one).
-const NEW_KEYS: [&str; 3] = ["events", "events_per_rock", "motion"];
+/// the shares of the modes of motion (rigid engine; `null` for the lumped one), the rocks
+/// the ground held where they were released.
+const NEW_KEYS: [&str; 5] = [
+    "events",
+    "events_per_rock",
+    "motion",
+    "held_at_release",
+    "held_at_release_fraction",
+];
+
+/// What the lumped parameters gained: the scale of the ground material's rolling friction.
+const NEW_LUMPED_PARAMETERS: [&str; 1] = ["soil_friction_scale"];
 
 const NEW_RIGID_PARAMETERS: [&str; 7] = [
     "solver_alpha",
@@ -178,7 +188,11 @@ fn the_summary_has_exactly_the_keys_of_the_old_construction() {
     assert_eq!(s["percentile_relative_error"], 0.0746079);
 
     let p = &s["parameters"];
-    assert_eq!(keys(p), sorted(&OLD_LUMPED_PARAMETERS));
+    let lumped: Vec<&str> = (OLD_LUMPED_PARAMETERS.iter())
+        .chain(&NEW_LUMPED_PARAMETERS)
+        .copied()
+        .collect();
+    assert_eq!(keys(p), sorted(&lumped));
     assert_eq!(p["moh"], "draw");
     assert_eq!(p["tangential_law"], "pfeiffer-bowen");
     for k in [

@@ -23,7 +23,7 @@ mod validate;
 pub use error::ScenarioError;
 pub use params::{
     ContactParams, ContactSettings, Engine, LumpedSettings, MohMode, OutputSettings, RigidParams,
-    SimulationSettings, Slippage, TangentialLaw,
+    SimulationSettings, Slippage, TangentialLaw, UNTIL_STABLE_DEFAULT_CAP,
 };
 pub use release::{Release, ReleasePoint};
 pub use rock::{BlockShape, RockShape, RockSpec};

@@ -164,6 +164,17 @@ pub struct LumpedSettings {
     /// this many obstacle heights (a rule of ours, docs/lumped-model.md; 1 by default, 0
     /// keeps only the stop velocity).
     pub lift_off_obstacle_factor: f64,
+    /// Scale of the ground material's rolling friction: a rolling rock meets
+    /// `max(scale · tan φ_soil, MOH / R)` (tan φ_soil of STONE per soil class, or the
+    /// `rolling_friction` map; docs/lumped-model.md rule 13). 1 by default; 0 leaves the
+    /// roughness term alone (the rule before the soil's friction was added).
+    #[serde(default = "one")]
+    pub soil_friction_scale: f64,
+}
+
+/// Serde's default of a scale that was not recorded (summaries written before it existed).
+fn one() -> f64 {
+    1.0
 }
 
 impl Default for LumpedSettings {
@@ -178,6 +189,7 @@ impl Default for LumpedSettings {
             rn_velocity_scale_ms: 9.144,
             roughness_tilt_factor: 1.0,
             lift_off_obstacle_factor: 1.0,
+            soil_friction_scale: 1.0,
         }
     }
 }
@@ -311,6 +323,39 @@ pub struct SimulationSettings {
     /// `rockfall-sim`'s `converge`); `rocks_per_cell` and `rocks_per_point` are then the caps.
     /// `None` (default): every rock at once.
     pub until_stable_pct: Option<f64>,
+    /// Whether the scenario chose its `rocks_per_cell` (true, the default for a scenario built
+    /// in code), or a scenario file or Rockyfor3D folder left it to its default (false): a
+    /// convergence run then caps the source cells at [`UNTIL_STABLE_DEFAULT_CAP`] instead.
+    pub rocks_per_cell_given: bool,
+    /// As `rocks_per_cell_given`, for `rocks_per_point`.
+    pub rocks_per_point_given: bool,
+}
+
+/// Rocks per source cell and per release point at most in a convergence run
+/// (`until_stable_pct`) whose scenario names no number of rocks: generous, so that the maps'
+/// stability, not a default meant for a single run, ends it.
+pub const UNTIL_STABLE_DEFAULT_CAP: u64 = 1_000_000;
+
+impl SimulationSettings {
+    /// For a convergence run, the counts the scenario left to their defaults raised to
+    /// [`UNTIL_STABLE_DEFAULT_CAP`]; returns whether any was.
+    pub fn apply_until_stable_caps(&mut self) -> bool {
+        if self.until_stable_pct.is_none() {
+            return false;
+        }
+        let mut raised = false;
+        if !self.rocks_per_cell_given {
+            self.rocks_per_cell = UNTIL_STABLE_DEFAULT_CAP;
+            self.rocks_per_cell_given = true;
+            raised = true;
+        }
+        if !self.rocks_per_point_given {
+            self.rocks_per_point = UNTIL_STABLE_DEFAULT_CAP;
+            self.rocks_per_point_given = true;
+            raised = true;
+        }
+        raised
+    }
 }
 
 impl Default for SimulationSettings {
@@ -321,6 +366,8 @@ impl Default for SimulationSettings {
             rocks_per_cell: 100,
             rocks_per_point: 1,
             until_stable_pct: None,
+            rocks_per_cell_given: true,
+            rocks_per_point_given: true,
         }
     }
 }

@@ -257,6 +257,9 @@ fn field_ranges(s: &Scenario) -> Vec<FieldRange> {
     if let Some(r) = &t.r_n {
         push("r_n", "-", r);
     }
+    if let Some(m) = &t.rolling_friction {
+        push("rolling_friction", "-", m);
+    }
     push("rg70", "m", &t.rg70_m);
     push("rg20", "m", &t.rg20_m);
     push("rg10", "m", &t.rg10_m);

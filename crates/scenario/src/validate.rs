@@ -324,7 +324,7 @@ impl Scenario {
     fn check_settings(&self) -> Check {
         let l = &self.lumped;
         let s = &self.simulation;
-        let checks: [(&str, f64, bool, &str); 12] = [
+        let checks: [(&str, f64, bool, &str); 13] = [
             (
                 "lumped.rt_variation",
                 l.rt_variation,
@@ -366,6 +366,12 @@ impl Scenario {
                 l.lift_off_obstacle_factor,
                 (0.0..=10.0).contains(&l.lift_off_obstacle_factor),
                 "0–10",
+            ),
+            (
+                "lumped.soil_friction_scale",
+                l.soil_friction_scale,
+                (0.0..=10.0).contains(&l.soil_friction_scale),
+                "0–10 (0: roughness alone)",
             ),
             (
                 "simulation.dt_s",

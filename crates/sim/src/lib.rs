@@ -149,9 +149,11 @@ impl Overrides {
         }
         if let Some(n) = self.rocks_per_cell {
             scenario.simulation.rocks_per_cell = n;
+            scenario.simulation.rocks_per_cell_given = true;
         }
         if let Some(n) = self.rocks_per_point {
             scenario.simulation.rocks_per_point = n;
+            scenario.simulation.rocks_per_point_given = true;
         }
         if let Some(e) = self.engine {
             scenario.engine = e;
@@ -159,6 +161,7 @@ impl Overrides {
         if let Some(t) = self.until_stable_pct {
             scenario.simulation.until_stable_pct = Some(t);
         }
+        scenario.simulation.apply_until_stable_caps();
     }
 
     /// The worker threads: the override, or every core.
@@ -409,6 +412,23 @@ impl<'a> Prepared<'a> {
         })
     }
 
+    /// Of the releases (source cells and points), how many put their rock at rest on ground
+    /// that holds it (it never moves), and how many there are: `None` for the rigid
+    /// engine, whose rocks tip and slide by their shape (lumped:
+    /// [`LumpedModel::holds_at_rest`]).
+    pub fn held_releases(&self) -> Option<(usize, usize)> {
+        match &self.plan {
+            PreparedPlan::Lumped(plan) => {
+                let launches = plan.launches();
+                let held = (launches.iter())
+                    .filter(|l| plan.engine().holds_at_rest(l))
+                    .count();
+                Some((held, launches.len()))
+            }
+            PreparedPlan::Rigid(_) => None,
+        }
+    }
+
     /// The tally of `rocks` (none: all) on `opts.threads` workers, and the run's
     /// [`RunInfo`] (its wall time that of the rocks alone).
     pub fn run(
@@ -448,6 +468,24 @@ fn run_plan<E: Engine>(
 ) -> Result<Tally, SimError> {
     let all = RockSet::all(plan.rocks());
     Ok(plan.run(layout, rocks.unwrap_or(&all), opts)?)
+}
+
+/// Share of the rocks (or releases) held where they start above which `run` and `check` warn.
+pub const HELD_WARNING_SHARE: f64 = 0.01;
+
+/// The warning `run` and `check` print when more than [`HELD_WARNING_SHARE`] of `of` rocks
+/// (`what` = "rocks") or releases never leave their release cell (`held`): the ground there
+/// holds a rock at rest. Names the scenario keys that start them moving.
+pub fn held_warning(what: &str, held: u64, of: u64) -> Option<String> {
+    (of > 0 && held as f64 > HELD_WARNING_SHARE * of as f64).then(|| {
+        format!(
+            "warning: {held} of {of} {what} stay in their release cell: the ground there holds \
+             a rock at rest (its rolling friction, from the soil type and the obstacle \
+             heights, is at least the tangent of the slope); give them a start \
+             with `[release] velocity_ms` (an initial speed, m/s) or `height_m` (a drop, m) in \
+             the scenario file, or release them from steeper ground"
+        )
+    })
 }
 
 /// Rocks a run of `scenario` releases: every source cell's and every point's.

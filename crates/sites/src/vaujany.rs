@@ -371,6 +371,7 @@ fn build_rows(site: Site, nrows: usize, u: &Unknowns) -> Result<Scenario, SiteEr
             let road = rockfall_terrain::SoilType::new(3).map_or(0.33, |c| c.r_n_mean());
             per_row(r_n, road)
         }),
+        rolling_friction: None,
         rg70_m: per_row(rg[0], 0.0),
         rg20_m: per_row(rg[1], 0.02),
         rg10_m: per_row(rg[2], 0.05),

@@ -6,41 +6,60 @@
 //! 6 and 7 are confirmed by a second source (Geosciences 13(6):182, 2023). We use the midpoint
 //! of each range as the class's mean r_n. Seed 000 table 4 measured r_n 0.11–0.68 on the
 //! Vaujany slopes (mean 0.26 on site 1, 0.36 on site 2), consistent with classes 1–5.
+//!
+//! **Rolling friction per class.** Rockyfor3D's soil classes carry no rolling resistance that
+//! we could read, so each class takes the dynamic (rolling) friction coefficient tan φ of the
+//! STONE model (Guzzetti, Crosta, Detti & Agliardi 2002, *Computers & Geosciences* 28:1079)
+//! for the ground it describes, as tabulated per lithological class in the documentation of
+//! its GRASS implementation r.stone (OSGeo grass-addons, `src/raster/r.stone`): 0.30 for
+//! carbonate and crystalline bedrock, 0.35 for schists and mixed sequences, 0.65 for
+//! anthropic, landslide and glacial deposits, 0.80 for alluvial, eluvial and colluvial
+//! deposits, 0.95 for lakes and glaciers. **Which STONE class stands for which Rockyfor3D
+//! class is ours** (the two classifications differ): river/swamp → lakes (0.95); deep fine
+//! soil → colluvial deposits (0.80); shallow fine soil or sand/gravel, scree, talus and
+//! forest roads → deposits (0.65; class 2's r_n 0.25–0.31 lies nearer STONE's deposits' 0.35
+//! than alluvium's 0.15); bedrock with a thin cover → schists and mixed sequences (0.35);
+//! bedrock → carbonate and crystalline rocks (0.30); asphalt road → anthropic (0.65).
 
 /// A Rockyfor3D soil type class (0–7).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SoilType(u8);
 
-/// (description, r_n lower bound, r_n upper bound) per class.
-const CLASSES: [(&str, f64, f64); 8] = [
+/// (description, r_n lower bound, r_n upper bound, rolling friction tan φ) per class.
+const CLASSES: [(&str, f64, f64, f64); 8] = [
     (
         "river, swamp, or material in which a rock could penetrate completely",
         0.0,
         0.0,
+        0.95,
     ),
-    ("fine soil material (depth > ~100 cm)", 0.21, 0.25),
+    ("fine soil material (depth > ~100 cm)", 0.21, 0.25, 0.80),
     (
         "fine soil material (depth < ~100 cm), or sand/gravel mix in the valley",
         0.25,
         0.31,
+        0.65,
     ),
     (
         "scree (Ø < ~10 cm), or medium compact soil with small rock fragments, or forest road",
         0.30,
         0.36,
+        0.65,
     ),
     (
         "talus slope (Ø > ~10 cm), or compact soil with large rock fragments",
         0.34,
         0.42,
+        0.65,
     ),
     (
         "bedrock with thin weathered material or soil cover",
         0.39,
         0.47,
+        0.35,
     ),
-    ("bedrock", 0.48, 0.58),
-    ("asphalt road", 0.32, 0.39),
+    ("bedrock", 0.48, 0.58, 0.30),
+    ("asphalt road", 0.32, 0.39, 0.65),
 ];
 
 impl SoilType {
@@ -77,8 +96,15 @@ impl SoilType {
 
     /// Range (lower, upper) of the normal coefficient of restitution r_n, dimensionless.
     pub fn r_n_range(self) -> (f64, f64) {
-        let (_, lo, hi) = CLASSES[self.0 as usize];
+        let (_, lo, hi, _) = CLASSES[self.0 as usize];
         (lo, hi)
+    }
+
+    /// Rolling friction coefficient tan φ of the class, dimensionless: STONE's dynamic
+    /// friction of the matching lithological class (Guzzetti et al. 2002, as tabulated by
+    /// r.stone; the class matching is ours, see the module docs).
+    pub fn rolling_friction(self) -> f64 {
+        CLASSES[self.0 as usize].3
     }
 
     /// Mean normal coefficient of restitution r_n (midpoint of the range), dimensionless.
@@ -108,5 +134,9 @@ mod tests {
             .map(|c| SoilType::new(c).unwrap().r_n_mean())
             .collect();
         assert!(means.windows(2).all(|w| w[0] < w[1]), "{means:?}");
+        // softer ground resists rolling more: deep fine soil most, bare bedrock least
+        let mu = |c| SoilType::new(c).unwrap().rolling_friction();
+        assert_eq!((mu(1), mu(4), mu(5), mu(6)), (0.80, 0.65, 0.35, 0.30));
+        assert!((1..6).all(|c| mu(c) >= mu(c + 1)));
     }
 }

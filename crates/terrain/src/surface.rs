@@ -1,4 +1,5 @@
-//! Per-cell surface parameters of seed 000: soil type (→ r_n) and obstacle heights.
+//! Per-cell surface parameters of seed 000: soil type (→ r_n, rolling friction) and obstacle
+//! heights.
 
 use crate::{SoilType, TerrainError};
 use rockfall_raster::{Field, GridGeometry};
@@ -11,6 +12,10 @@ pub struct CellSurface {
     /// Normal coefficient of restitution r_n, dimensionless: the `r_n` override when the
     /// scenario gives one, else the class mean.
     pub r_n: f64,
+    /// Rolling friction coefficient tan φ of the ground material, dimensionless: the
+    /// `rolling_friction` override when the scenario gives one, else the class's
+    /// ([`SoilType::rolling_friction`]).
+    pub rolling_friction: f64,
     /// Obstacle height of the 70 % cover class, m (seed 000 §2.5, eq. 4).
     pub rg70_m: f64,
     /// Obstacle height of the 20 % cover class, m.
@@ -34,6 +39,8 @@ pub struct SurfaceMap {
     pub soil_type: Field,
     /// Optional direct r_n (overrides the soil-type mapping), 0–1.
     pub r_n: Option<Field>,
+    /// Optional direct rolling friction tan φ (overrides the soil-type mapping), 0–5.
+    pub rolling_friction: Option<Field>,
     /// Obstacle height of the 70 % cover class, m (`rg70`).
     pub rg70_m: Field,
     /// Obstacle height of the 20 % cover class, m (`rg20`).
@@ -48,6 +55,7 @@ impl SurfaceMap {
         SurfaceMap {
             soil_type: Field::Const(soil.class() as f64),
             r_n: None,
+            rolling_friction: None,
             rg70_m: Field::Const(rg70_m),
             rg20_m: Field::Const(rg20_m),
             rg10_m: Field::Const(rg10_m),
@@ -65,11 +73,15 @@ impl SurfaceMap {
         if let Some(r) = &self.r_n {
             v.push(("r_n", r));
         }
+        if let Some(m) = &self.rolling_friction {
+            v.push(("rolling_friction", m));
+        }
         v
     }
 
     /// Checks alignment with the DEM and value ranges: soil type a whole number 0–7, obstacle
-    /// heights finite and ≥ 0 (≤ 100 m, Rockyfor3D's limit), r_n in [0, 1].
+    /// heights finite and ≥ 0 (≤ 100 m, Rockyfor3D's limit), r_n in [0, 1], rolling friction
+    /// in [0, 5] (tan 79°: steeper ground than any rock rests on).
     pub fn check_against(&self, dem: &GridGeometry) -> Result<(), TerrainError> {
         for (name, field) in self.fields() {
             field
@@ -105,6 +117,11 @@ impl SurfaceMap {
         {
             return Err(out("r_n", bad, "0–1"));
         }
+        if let Some(m) = &self.rolling_friction
+            && let Some(bad) = m.find(|v| !(0.0..=5.0).contains(&v))
+        {
+            return Err(out("rolling_friction", bad, "0–5"));
+        }
         Ok(())
     }
 
@@ -116,9 +133,14 @@ impl SurfaceMap {
             Some(f) => f.at(row, col)?,
             None => soil.r_n_mean(),
         };
+        let rolling_friction = match &self.rolling_friction {
+            Some(f) => f.at(row, col)?,
+            None => soil.rolling_friction(),
+        };
         Some(CellSurface {
             soil,
             r_n,
+            rolling_friction,
             rg70_m: self.rg70_m.at(row, col)?,
             rg20_m: self.rg20_m.at(row, col)?,
             rg10_m: self.rg10_m.at(row, col)?,
@@ -147,6 +169,10 @@ mod tests {
         s.check_against(&geom()).unwrap();
         let c = s.cell(1, 2).unwrap();
         assert!((c.r_n - 0.38).abs() < 1e-12);
+        assert_eq!(c.rolling_friction, 0.65);
+        let mut s = s;
+        s.rolling_friction = Some(Field::Const(0.2));
+        assert_eq!(s.cell(0, 0).unwrap().rolling_friction, 0.2);
         assert!((c.mean_obstacle_height_m() - (0.07 + 0.04 + 0.05)).abs() < 1e-12);
     }
 
@@ -175,5 +201,15 @@ mod tests {
         s.rg70_m = Field::Grid(Grid::filled(g, 0.1));
         let e = s.check_against(&geom()).unwrap_err().to_string();
         assert!(e.contains("rg70") && e.contains("4 columns"), "{e}");
+
+        let mut s = SurfaceMap::uniform(SoilType::new(4).unwrap(), 0.1, 0.2, 0.5);
+        let mut mu = Grid::filled(geom(), 0.5);
+        mu.set(0, 2, -0.1);
+        s.rolling_friction = Some(Field::Grid(mu));
+        let e = s.check_against(&geom()).unwrap_err().to_string();
+        assert!(
+            e.contains("rolling_friction") && e.contains("row 0, column 2"),
+            "{e}"
+        );
     }
 }

@@ -252,7 +252,7 @@ fn lumped_settings(l: &LumpedSettings) -> String {
     format!(
         "lumped: tangential rebound law {}, MOH {moh} per rebound, r_t ± {} %, slope lowered by \
          up to {}°, r_n / (1 + (v_n/{} m/s)²), roughness tilt × {}, lateral deviation ≤ {}°, \
-         lift-off above {} × MOH, stop below {} m/s",
+         lift-off above {} × MOH, rolling friction max({} × tan φ_soil, MOH/R), stop below {} m/s",
         l.tangential.name(),
         100.0 * l.rt_variation,
         l.slope_reduction_max_deg,
@@ -260,6 +260,7 @@ fn lumped_settings(l: &LumpedSettings) -> String {
         l.roughness_tilt_factor,
         l.max_lateral_deviation_deg,
         l.lift_off_obstacle_factor,
+        l.soil_friction_scale,
         l.stop_velocity_ms
     )
 }

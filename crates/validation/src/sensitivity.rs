@@ -1,23 +1,25 @@
 //! The sensitivity table of `rockfall validate`: each Vaujany site's table 2 case run again
 //! with one unknown of the reconstruction (`vaujany::Unknowns`) or one rule of ours (the
-//! settings `roughness_tilt_factor` and `lift_off_obstacle_factor`, docs/lumped-model.md) or
-//! Pfeiffer & Bowen's velocity scale of r_n (`rn_velocity_scale_ms`)
+//! settings `roughness_tilt_factor` and `lift_off_obstacle_factor`, docs/lumped-model.md),
+//! Pfeiffer & Bowen's velocity scale of r_n (`rn_velocity_scale_ms`) or the scale of STONE's
+//! rolling friction of the soil (`soil_friction_scale`)
 //! at each end of its plausible range, so that a reader sees which rows the reconstruction
 //! decides and which the model does.
 
 use crate::{CaseReport, SensitivityRow, ValidationError, fair, measure, published};
-use rockfall_scenario::Scenario;
+use rockfall_scenario::{LumpedSettings, Scenario};
 use rockfall_sim::{Observer, Overrides, Simulation};
 use rockfall_sites::vaujany::{self, Site, Unknowns};
+
+/// Sets one engine setting of the lumped engine to a value.
+type SetRule = fn(&mut LumpedSettings, f64);
 
 /// How one run differs from the default reconstruction.
 struct Variant {
     unknown: String,
     setting: String,
     unknowns: Unknowns,
-    tilt: Option<f64>,
-    lift: Option<f64>,
-    rn_scale: Option<f64>,
+    rule: Option<(SetRule, f64)>,
 }
 
 /// The variants of a site: the default, each unknown at both ends, each rule of ours (and
@@ -28,28 +30,35 @@ fn variants(site: Site) -> Vec<Variant> {
         unknown: unknown.to_string(),
         setting,
         unknowns,
-        tilt: None,
-        lift: None,
-        rn_scale: None,
+        rule: None,
     };
     let mut v = vec![plain("default", "–".into(), d)];
     for (name, lo, hi) in Unknowns::ranges(site) {
         v.push(plain(name, "low".into(), lo));
         v.push(plain(name, "high".into(), hi));
     }
-    for (rule, values) in [
-        ("roughness tilt factor (ours: 1)", [0.0, 0.5]),
-        ("lift-off obstacle factor (ours: 1)", [0.0, 2.0]),
+    let rules: [(&str, [f64; 2], SetRule); 4] = [
+        ("roughness tilt factor (ours: 1)", [0.0, 0.5], |l, x| {
+            l.roughness_tilt_factor = x;
+        }),
+        ("lift-off obstacle factor (ours: 1)", [0.0, 2.0], |l, x| {
+            l.lift_off_obstacle_factor = x;
+        }),
         (
             "r_n velocity scale K (P&B: 9.144 m/s; 0: off)",
             [0.0, 18.288],
+            |l, x| l.rn_velocity_scale_ms = x,
         ),
-    ] {
+        (
+            "soil rolling friction × (STONE: 1; 0: MOH/R)",
+            [0.0, 0.5],
+            |l, x| l.soil_friction_scale = x,
+        ),
+    ];
+    for (rule, values, set) in rules {
         for x in values {
             v.push(Variant {
-                tilt: rule.starts_with("roughness").then_some(x),
-                lift: rule.starts_with("lift").then_some(x),
-                rn_scale: rule.starts_with("r_n velocity").then_some(x),
+                rule: Some((set, x)),
                 ..plain(rule, format!("{x}"), d)
             });
         }
@@ -83,14 +92,8 @@ pub fn sensitivity(
             let mut s: Scenario = vaujany::build_observed_with(site, &v.unknowns)?;
             s.output.rocks_csv = true;
             s.output.trajectories = 0;
-            if let Some(t) = v.tilt {
-                s.lumped.roughness_tilt_factor = t;
-            }
-            if let Some(l) = v.lift {
-                s.lumped.lift_off_obstacle_factor = l;
-            }
-            if let Some(k) = v.rn_scale {
-                s.lumped.rn_velocity_scale_ms = k;
+            if let Some((set, x)) = v.rule {
+                set(&mut s.lumped, x);
             }
             let overrides = Overrides {
                 seed: Some(seed),
@@ -168,27 +171,37 @@ mod tests {
         let v = variants(Site::One);
         let d = Unknowns::default();
         assert_eq!(v[0].unknown, "default");
-        assert!(v[0].unknowns == d && v[0].tilt.is_none() && v[0].lift.is_none());
-        // every unknown at both ends, then three rules at two values each
-        assert_eq!(v.len(), 1 + 2 * Unknowns::ranges(Site::One).len() + 6);
+        assert!(v[0].unknowns == d && v[0].rule.is_none());
+        // every unknown at both ends, then four rules at two values each
+        assert_eq!(v.len(), 1 + 2 * Unknowns::ranges(Site::One).len() + 8);
         for pair in v[1..].chunks(2) {
             assert_eq!(pair[0].unknown, pair[1].unknown);
             assert_ne!(pair[0].setting, pair[1].setting);
         }
+        // each rule sets its own setting to its value and nothing else
         let rule = |name: &'static str| v.iter().filter(move |x| x.unknown.starts_with(name));
-        for x in rule("roughness") {
-            assert!(x.unknowns == d && x.lift.is_none() && x.rn_scale.is_none());
-            assert!(matches!(x.tilt, Some(t) if t == 0.0 || t == 0.5));
+        type Read = fn(&LumpedSettings) -> f64;
+        let get: [(&str, Read); 4] = [
+            ("roughness", |l| l.roughness_tilt_factor),
+            ("lift-off", |l| l.lift_off_obstacle_factor),
+            ("r_n velocity", |l| l.rn_velocity_scale_ms),
+            ("soil rolling", |l| l.soil_friction_scale),
+        ];
+        for (name, read) in get {
+            assert_eq!(rule(name).count(), 2, "{name}");
+            for x in rule(name) {
+                assert!(x.unknowns == d);
+                let (set, value) = x.rule.unwrap();
+                let mut l = LumpedSettings::default();
+                set(&mut l, value);
+                assert_eq!(read(&l), value, "{name}");
+                assert_ne!(read(&LumpedSettings::default()), value, "{name}");
+                for (other, read_other) in get {
+                    if other != name {
+                        assert_eq!(read_other(&l), read_other(&LumpedSettings::default()));
+                    }
+                }
+            }
         }
-        for x in rule("lift-off") {
-            assert!(x.unknowns == d && x.tilt.is_none() && x.rn_scale.is_none());
-            assert!(matches!(x.lift, Some(l) if l == 0.0 || l == 2.0));
-        }
-        for x in rule("r_n velocity") {
-            assert!(x.unknowns == d && x.tilt.is_none() && x.lift.is_none());
-            assert!(matches!(x.rn_scale, Some(k) if k == 0.0 || k == 18.288));
-        }
-        let rules = ["roughness", "lift-off", "r_n velocity"];
-        assert_eq!(rules.iter().map(|r| rule(r).count()).sum::<usize>(), 6);
     }
 }

@@ -51,7 +51,9 @@ pub fn run(scenario: &Scenario, forest: Option<&Forest>, layout: Layout) -> Resu
 
 /// Terrain with `f(x, y)` at the cell centres of `ncols × nrows` cells of `cell_m` from the
 /// origin, soil type 4, uniform obstacle heights `rg` (m) for the three cover classes and,
-/// when given, a fixed r_n.
+/// when given, a fixed r_n. The ground material's rolling friction is 0, so that a rolling
+/// rock meets the roughness's `MOH / R` alone: the rule these hand calculations check
+/// ([`with_soil_friction`] gives it one).
 pub fn terrain(
     (ncols, nrows, cell_m): (usize, usize, f64),
     f: impl Fn(f64, f64) -> f64,
@@ -63,7 +65,15 @@ pub fn terrain(
     });
     let mut surface = SurfaceMap::uniform(SoilType::new(4).unwrap(), rg[0], rg[1], rg[2]);
     surface.r_n = r_n.map(Field::Const);
+    surface.rolling_friction = Some(Field::Const(0.0));
     Terrain::new(Dem::new(grid).unwrap(), surface).unwrap()
+}
+
+/// `t` with the ground material's rolling friction tan φ (`rolling_friction`), or, for
+/// `None`, its soil class's.
+pub fn with_soil_friction(mut t: Terrain, mu: Option<f64>) -> Terrain {
+    t.surface.rolling_friction = mu.map(Field::Const);
+    t
 }
 
 /// Runs `scenario` recording the first `trajectories` rocks and one record per rock.
