@@ -217,6 +217,36 @@ pub enum Command {
         #[arg(long, default_value = "rockfall-shape-study")]
         out: PathBuf,
     },
+    /// Fit a scenario's free parameters to what the slope shows. TARGETS (TOML) names the
+    /// free keys (`[[parameter]] key = "lumped.roughness_tilt_factor"`, `range = [lo, hi]`,
+    /// or `scale = [lo, hi]` to multiply a map or constant) and the observations
+    /// (`[[target]] path = "runout_m.p50"` of summary.json, `value`, and `sd` or `n`, the
+    /// rocks observed for a share or a maximum; `[deposits] points = "layer.geojson"`,
+    /// mapped blocks). Every candidate runs with the same seed; a Latin hypercube of about
+    /// 60 % of the budget, then a Nelder–Mead refinement. Writes calibration.json (every
+    /// evaluation, the best values, the set fitting every target within 2σ and each
+    /// parameter's range in it), calibrated.toml (the scenario with the best values,
+    /// runnable as is; its inputs in calibrated/), calibration.md and calibration.html with
+    /// figures.
+    Calibrate {
+        /// Scenario file or Rockyfor3D input folder.
+        scenario: PathBuf,
+        /// Targets file (TOML).
+        #[arg(long)]
+        targets: PathBuf,
+        /// Candidates evaluated at most (≥ 1).
+        #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..))]
+        budget: u64,
+        /// Seed of the design and of every candidate's run; default: the scenario's.
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Worker threads (≥ 1); default: all cores. Results do not depend on it.
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        threads: Option<u64>,
+        /// Output folder (created if needed).
+        #[arg(long, default_value = "rockfall-calibration")]
+        out: PathBuf,
+    },
     /// Run the published-experiment cases and print observed against simulated, with the
     /// error E = (C − O)·100/O of each quantity and the RMSE of each case (seed 000 eqs. 5
     /// and 6). Cases: `vaujany-site1` (seed 000 table 2, site 1, and table 3 at its screens at

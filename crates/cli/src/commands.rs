@@ -2,6 +2,7 @@
 
 use crate::Failure;
 use crate::args::Command;
+use crate::calibrate;
 use crate::lab;
 use crate::regional;
 use crate::simulate;
@@ -171,6 +172,23 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             };
             validate::validate(&flags, &out)
         }
+        Command::Calibrate {
+            scenario,
+            targets,
+            budget,
+            seed,
+            threads,
+            out,
+        } => {
+            let flags = calibrate::CalibrateFlags {
+                scenario,
+                targets,
+                budget: budget as usize,
+                seed,
+                threads,
+            };
+            calibrate::calibrate(&flags, &out)
+        }
     }
 }
 
@@ -182,7 +200,8 @@ fn output_folder(command: &Command) -> Option<&Path> {
         | Command::Merge { out, .. }
         | Command::ImpactLab { out, .. }
         | Command::ShapeStudy { out, .. }
-        | Command::Validate { out, .. } => Some(out),
+        | Command::Validate { out, .. }
+        | Command::Calibrate { out, .. } => Some(out),
         // `site` refuses any existing folder that is not empty, files included
         Command::Site { .. } | Command::Check { .. } => None,
     }

@@ -2,6 +2,7 @@
 //! (0 success, 2 bad input, 1 internal failure). All work happens in the library crates.
 
 mod args;
+mod calibrate;
 mod commands;
 mod lab;
 #[cfg(feature = "mpi")]

@@ -45,6 +45,9 @@ pub enum Purpose {
     /// [`Purpose::Rock`]; a stream of its own so that runs without variation stay
     /// bit-identical to runs made before the option existed.
     Volume,
+    /// The space-filling design of a calibration (`rockfall calibrate`), keyed by nothing: one
+    /// stream per calibration seed.
+    Calibration,
 }
 
 impl Purpose {
@@ -56,6 +59,7 @@ impl Purpose {
             Purpose::Sampling => 0x5341_4d50_4c45_0004,
             Purpose::Laboratory => 0x4c41_424f_5241_0005,
             Purpose::Volume => 0x564f_4c55_4d45_0006,
+            Purpose::Calibration => 0x4341_4c49_4252_0007,
         }
     }
 }
