@@ -252,6 +252,9 @@ pub enum Command {
     /// and 6). Cases: `vaujany-site1` (seed 000 table 2, site 1, and table 3 at its screens at
     /// 185 m and 235 m, each screen a case of its own), `vaujany-site2` (table 2, site 2, and
     /// the fig. 2 histogram of tree impacts per rock), both on the lumped engine;
+    /// `vaujany-crossval` (each site's table 2 run with the lumped engine's free factors
+    /// calibrated on the other site's: `vaujany-site2 (calibrated on site 1)` and the
+    /// reverse);
     /// `impact-lab` (seed 001 §3.1–3.3: the single-tree laboratory for sphere, cubic1.2,
     /// flat2.2 and long2.2, losses per regime and the rotation and energy-partition findings);
     /// `forest-slope-40` (seed 001 §3.4: run-out and spread of its three rock shapes, of rough
@@ -265,8 +268,8 @@ pub enum Command {
     /// contact rules at both ends of their range). Writes validation.json, validation.md,
     /// fig2_tree_impacts_per_rock.png and every run's outputs in OUT/<case>.
     Validate {
-        /// Cases to run: vaujany-site1, vaujany-site2, impact-lab, forest-slope-40, leine-ramp-40
-        /// (default: all).
+        /// Cases to run: vaujany-site1, vaujany-site2, vaujany-crossval, impact-lab,
+        /// forest-slope-40, leine-ramp-40 (default: all).
         cases: Vec<String>,
         /// Rocks per case (per shape for forest-slope-40; ≥ 1); default 10 000 for the
         /// Vaujany sites as in seed 000, 500 per shape as in seed 001 (ten times as many

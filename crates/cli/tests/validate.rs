@@ -346,7 +346,7 @@ fn bad_cases_and_flags_are_refused_before_anything_runs() {
         rockfall(&["validate", "vaujany-site3", "--out", s(&out)]),
         &[
             "vaujany-site3",
-            "vaujany-site1, vaujany-site2, impact-lab, forest-slope-40, leine-ramp-40",
+            "vaujany-site1, vaujany-site2, vaujany-crossval, impact-lab, forest-slope-40, leine-ramp-40",
         ],
     );
     assert!(!out.exists(), "nothing written");
@@ -410,4 +410,53 @@ fn the_lab_and_ramp_cases_compare_with_their_papers() {
     let run = json(&out.join("leine-ramp-40/summary.json"));
     assert_eq!(run["rocks"], 6);
     assert!(run["motion"]["flight"].is_number());
+}
+
+/// The cross-validated cases: each Vaujany site reported with the free factors calibrated
+/// on the other, with both RMSEs and the calibrated values; the fitted site's release
+/// unknowns are never carried.
+#[test]
+fn crossval_reports_each_site_calibrated_on_the_other() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("v");
+    let stdout = ok(rockfall(&[
+        "validate",
+        "vaujany-crossval",
+        "--rocks",
+        "100",
+        "--out",
+        s(&out),
+    ]));
+    let v = json(&out.join("validation.json"));
+    let cases = v["cases"].as_array().unwrap();
+    let names: Vec<&str> = cases.iter().map(|c| c["name"].as_str().unwrap()).collect();
+    assert_eq!(
+        names,
+        [
+            "vaujany-site2 (calibrated on site 1)",
+            "vaujany-site1 (calibrated on site 2)"
+        ]
+    );
+    for c in cases {
+        assert!(c["rmse_pct"].as_f64().unwrap() > 0.0, "{c}");
+        assert!(c["rmse_pct_fair"].as_f64().unwrap() > 0.0, "{c}");
+        assert_eq!(c["rocks"], 100);
+        let note = c["notes"][0].as_str().unwrap();
+        for key in [
+            "lumped.roughness_tilt_factor = ",
+            "lumped.lift_off_obstacle_factor = ",
+            "lumped.rn_velocity_scale_ms = ",
+            "lumped.soil_friction_scale = ",
+            "release.height_m = ",
+        ] {
+            assert!(note.contains(key), "{key}: {note}");
+        }
+        assert!(
+            note.contains("release.height_m = ") && note.contains("fitted site only"),
+            "{note}"
+        );
+    }
+    assert!(stdout.contains("(calibrated on site 1)"), "{stdout}");
+    let md = std::fs::read_to_string(out.join("validation.md")).unwrap();
+    assert!(md.contains("vaujany-site1 (calibrated on site 2)"), "{md}");
 }

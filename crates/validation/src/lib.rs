@@ -20,6 +20,7 @@
 //! (`rockfall_results::Summary`, as in `summary.json`), per-rock records and slope-study statistics.
 
 pub mod case;
+pub mod crossval;
 pub mod fair;
 pub mod figure;
 pub mod lab;
@@ -67,6 +68,9 @@ pub enum ValidationError {
     /// A run cannot start or failed.
     #[error(transparent)]
     Sim(#[from] rockfall_sim::SimError),
+    /// A cross-validation fold's calibration failed.
+    #[error("calibration: {0}")]
+    Calibration(String),
     /// A run's outputs could not be written.
     #[error(transparent)]
     Report(#[from] rockfall_report::ReportError),
@@ -90,6 +94,10 @@ pub fn write_reports(
     cases: &[CaseReport],
     meta: &Meta,
 ) -> Result<Vec<PathBuf>, ValidationError> {
+    std::fs::create_dir_all(out_dir).map_err(|e| ValidationError::Io {
+        path: out_dir.to_path_buf(),
+        source: e,
+    })?;
     let json_path = out_dir.join("validation.json");
     rockfall_results::write_json(&json_path, &report::validation_json(cases, meta))?;
     let md_path = out_dir.join("validation.md");

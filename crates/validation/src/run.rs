@@ -19,9 +19,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// The runs `validate` knows, in the order it runs them.
-pub const CASES: [&str; 5] = [
+pub const CASES: [&str; 6] = [
     "vaujany-site1",
     "vaujany-site2",
+    "vaujany-crossval",
     "impact-lab",
     "forest-slope-40",
     "leine-ramp-40",
@@ -117,6 +118,20 @@ pub fn run_validation(
             meta.settings.push(format!(
                 "rigid: built-in {name}, 800 kg eota221, dt 2 ms, {} rocks (our reconstruction)",
                 2 * v.shape_rocks
+            ));
+        } else if name == crate::crossval::NAME {
+            cases.extend(crate::crossval::crossval_cases(v, observer)?);
+            meta.settings.push(format!(
+                "lumped: cross-validation, free factors {} calibrated on one Vaujany site ({} \
+                 candidates of {} rocks, the site's release height and speed with them) and \
+                 carried to the other",
+                crate::crossval::free_factors()
+                    .iter()
+                    .map(|p| p.key.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                crate::crossval::BUDGET,
+                crate::crossval::CALIBRATION_ROCKS.min(v.site_rocks)
             ));
         } else if name == "forest-slope-40" {
             cases.push(shape_study_case(name, v, out, observer)?);
