@@ -6,6 +6,7 @@
 //! internal failure `RuntimeError`; Ctrl-C during a run `KeyboardInterrupt`, after the workers
 //! stopped (nothing is written by a run; `Results.write` writes each file atomically).
 
+mod calibrate;
 mod lab;
 mod results;
 mod run;
@@ -20,6 +21,7 @@ fn _rockfall(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<results::PyResults>()?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(lab::impact_lab, m)?)?;
+    m.add_function(wrap_pyfunction!(calibrate::calibrate, m)?)?;
     m.add_function(wrap_pyfunction!(scenario::sites, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

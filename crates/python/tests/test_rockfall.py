@@ -237,3 +237,40 @@ def test_to_xarray(site2, monkeypatch):
     assert ds.x.values[0] == x0 + cell / 2 and ds.y.values[0] == y1 - cell / 2
     assert ds.attrs["crs"] == "EPSG:2154"
     assert isinstance(ds, xr.Dataset)
+
+
+CALIBRATION = """
+rocks_per_cell = 100
+
+[[parameter]]
+key = "lumped.roughness_tilt_factor"
+range = [0.0, 2.0]
+
+[[target]]
+path = "max_velocity_ms.mean"
+value = 11.7
+sd = 1.0
+
+[[target]]
+path = "screens.lower_road.passed_fraction"
+value = 0.21
+n = 102
+"""
+
+
+def test_calibrate_returns_the_command_lines_record(site2, tmp_path):
+    targets = tmp_path / "targets.toml"
+    targets.write_text(CALIBRATION)
+    c = rockfall.calibrate(site2 / "scenario.toml", targets, budget=6, threads=2, out=tmp_path / "py")
+    cli_out = tmp_path / "cli"
+    run = sh("calibrate", str(site2 / "scenario.toml"), "--targets", str(targets), "--budget", "6",
+             "--out", str(cli_out))
+    assert run.returncode == 0, run.stderr
+    on_cli = json.loads((cli_out / "calibration.json").read_text())
+    assert c["evaluations"] == on_cli["evaluations"]
+    assert c["best"] == on_cli["best"] and len(c["evaluations"]) == 6
+    assert (tmp_path / "py" / "calibrated.toml").is_file()
+    # bad input: the command line's message as a ValueError
+    targets.write_text(CALIBRATION.replace("roughness_tilt_factor", "roughness_tilt_factr"))
+    with pytest.raises(ValueError, match="near matches: lumped.roughness_tilt_factor"):
+        rockfall.calibrate(site2 / "scenario.toml", targets, budget=2)

@@ -13,6 +13,6 @@ contact). The numbers are the command line's, bit for bit, for the same scenario
     res.write("out")                     # the same files as `rockfall run`
 """
 
-from ._rockfall import Results, Scenario, __version__, impact_lab, run, sites
+from ._rockfall import Results, Scenario, __version__, calibrate, impact_lab, run, sites
 
-__all__ = ["Results", "Scenario", "__version__", "impact_lab", "run", "sites"]
+__all__ = ["Results", "Scenario", "__version__", "calibrate", "impact_lab", "run", "sites"]

@@ -90,6 +90,24 @@ def run(
     Ctrl-C stops the workers and raises ``KeyboardInterrupt``; bad input raises ``ValueError``.
     """
 
+def calibrate(
+    scenario: Union[Scenario, str, os.PathLike[str]],
+    targets: Union[str, os.PathLike[str]],
+    *,
+    budget: int = 200,
+    seed: Optional[int] = None,
+    threads: Optional[int] = None,
+    out: Optional[Union[str, os.PathLike[str]]] = None,
+) -> dict[str, Any]:
+    """Fit the free keys of the targets file (``[[parameter]]``) to its observations
+    (``[[target]]`` paths of summary.json with ``sd`` or ``n``, ``[deposits]``), as
+    ``rockfall calibrate``: at most ``budget`` candidates, each a run with seed ``seed``.
+    Returns calibration.json as a dict (``best``, ``parameters`` with ``fit_range``,
+    ``evaluations``); ``out`` also writes calibrated.toml, calibration.md and .html there.
+    Bad input raises ``ValueError``; Ctrl-C raises ``KeyboardInterrupt`` after the current
+    candidate.
+    """
+
 def impact_lab(
     shape: str = "sphere",
     samples: int = 5000,
