@@ -161,91 +161,78 @@ fn bad_keys_ranges_and_paths_exit_2_naming_them() {
         ])
     };
     let with = |parameter: &str| format!("{parameter}\n{TARGETS}");
-    // an unknown key, with its near match
-    bad_input(
-        run(
+    let key =
+        |key: &str, range: &str| with(&format!("[[parameter]]\nkey = \"{key}\"\nrange = {range}"));
+    let target = |t: &str| format!("{PARAMETERS}[[target]]\n{t}\n");
+    let cases: [(&str, String, &[&str]); 9] = [
+        // an unknown key, with its near match
+        (
             "a.toml",
-            &with("[[parameter]]\nkey = \"lumped.roughness_tilt_factr\"\nrange = [0, 1]"),
+            key("lumped.roughness_tilt_factr", "[0, 1]"),
+            &[
+                "lumped.roughness_tilt_factr",
+                "near matches",
+                "lumped.roughness_tilt_factor",
+            ],
         ),
-        &[
-            "lumped.roughness_tilt_factr",
-            "near matches",
-            "lumped.roughness_tilt_factor",
-        ],
-    );
-    // a key that is not a number
-    bad_input(
-        run(
+        // a key that is not a number
+        (
             "b.toml",
-            &with("[[parameter]]\nkey = \"lumped.moh\"\nrange = [0, 1]"),
+            key("lumped.moh", "[0, 1]"),
+            &["lumped.moh", "not a number"],
         ),
-        &["lumped.moh", "not a number"],
-    );
-    // inverted and empty ranges
-    bad_input(
-        run(
+        // inverted and empty ranges
+        (
             "c.toml",
-            &with("[[parameter]]\nkey = \"lumped.roughness_tilt_factor\"\nrange = [2, 1]"),
+            key("lumped.roughness_tilt_factor", "[2, 1]"),
+            &["c.toml", "roughness_tilt_factor", "inverted or empty"],
         ),
-        &["c.toml", "roughness_tilt_factor", "inverted or empty"],
-    );
-    bad_input(
-        run(
+        (
             "d.toml",
-            &with("[[parameter]]\nkey = \"lumped.roughness_tilt_factor\"\nrange = [1, 1]"),
+            key("lumped.roughness_tilt_factor", "[1, 1]"),
+            &["d.toml", "inverted or empty"],
         ),
-        &["d.toml", "inverted or empty"],
-    );
-    // a map given a range instead of a scale
-    bad_input(
-        run(
+        // a map given a range instead of a scale
+        (
             "e.toml",
-            &with("[[parameter]]\nkey = \"terrain.rg70_m\"\nrange = [0, 1]"),
+            key("terrain.rg70_m", "[0, 1]"),
+            &["terrain.rg70_m", "is a map", "scale"],
         ),
-        &["terrain.rg70_m", "is a map", "scale"],
-    );
-    // a range the scenario refuses at one end
-    bad_input(
-        run(
+        // a range the scenario refuses at one end
+        (
             "f.toml",
-            &with("[[parameter]]\nkey = \"lumped.soil_friction_scale\"\nrange = [0, 50]"),
+            key("lumped.soil_friction_scale", "[0, 50]"),
+            &["soil_friction_scale", "50"],
         ),
-        &["soil_friction_scale", "50"],
-    );
-    // a target path that is not in summary.json, with its near matches
-    bad_input(
-        run(
+        // target paths that are not in summary.json, with their near matches
+        (
             "g.toml",
-            &format!(
-                "{PARAMETERS}[[target]]\npath = \"max_velocity_ms.maen\"\nvalue = 1\nsd = 1\n"
-            ),
+            target("path = \"max_velocity_ms.maen\"\nvalue = 1\nsd = 1"),
+            &[
+                "max_velocity_ms.maen",
+                "near matches",
+                "max_velocity_ms.mean",
+            ],
         ),
-        &[
-            "max_velocity_ms.maen",
-            "near matches",
-            "max_velocity_ms.mean",
-        ],
-    );
-    bad_input(
-        run(
+        (
             "h.toml",
-            &format!(
-                "{PARAMETERS}[[target]]\npath = \"screens.gate.passed_fraction\"\nvalue = 0.1\nn = 10\n"
-            ),
+            target("path = \"screens.gate.passed_fraction\"\nvalue = 0.1\nn = 10"),
+            &[
+                "screens.gate.passed_fraction",
+                "screens.lower_road.passed_fraction",
+            ],
         ),
-        &[
-            "screens.gate.passed_fraction",
-            "screens.lower_road.passed_fraction",
-        ],
-    );
-    // an unknown key in the targets file itself
-    bad_input(
-        run(
+        // an unknown key in the targets file itself
+        (
             "i.toml",
-            &format!("{PARAMETERS}{TARGETS}[[target]]\npath = \"x\"\nvalue = 1\nsigma = 1\n"),
+            format!("{PARAMETERS}{TARGETS}[[target]]\npath = \"x\"\nvalue = 1\nsigma = 1\n"),
+            &["i.toml", "sigma"],
         ),
-        &["i.toml", "sigma"],
-    );
+    ];
+    for (file, text, needles) in cases {
+        bad_input(run(file, &text), needles);
+    }
+    assert!(!tmp.path().join("out").exists(), "nothing written");
 }
 
 #[test]
