@@ -241,6 +241,7 @@ pub fn calibrate(
     progress: &dyn Progress,
 ) -> Result<Calibration, CalibrationError> {
     let scenario = base_of(scenario, spec, opts.seed);
+    // the keys first (before the forest is built and the targets are checked by a run)
     check_parameters(&scenario, &spec.parameters)?;
     let sim = Simulation::new(
         scenario,
@@ -264,6 +265,7 @@ pub fn calibrate_with(
 ) -> Result<Calibration, CalibrationError> {
     let started = Instant::now();
     let base = sim.scenario();
+    // cheap next to one run (`calibrate` checks before building the forest, too)
     check_parameters(base, params)?;
     let run_opts = rockfall_engine::RunOptions {
         threads: sim.threads(),
