@@ -137,24 +137,28 @@ impl Deposits {
             ("deposits.across", &self.obs_across, &sim_across),
         ]
         .into_iter()
-        .map(|(path, obs, sim)| {
-            let (n, m) = (obs.len() as f64, sim.len() as f64);
-            let critical = if m > 0.0 {
-                1.358 * ((n + m) / (n * m)).sqrt()
-            } else {
-                1.0
-            };
-            let sigma = critical / 1.96;
-            let d = (!sim.is_empty()).then(|| ks_statistic(obs, sim));
-            Residual {
-                path: path.to_string(),
-                observed: 0.0,
-                simulated: d,
-                sigma,
-                z: d.map_or(MISSING_Z, |d| d / sigma),
-            }
-        })
+        .map(|(path, obs, sim)| ks_residual(path, obs, sim))
         .collect()
+    }
+}
+
+/// The residual of two sorted samples: 1.96 D over the 5 % critical value of the two-sample
+/// KS test (see the module docs); an empty simulated sample is [`MISSING_Z`].
+pub fn ks_residual(path: &str, obs: &[f64], sim: &[f64]) -> Residual {
+    let (n, m) = (obs.len() as f64, sim.len() as f64);
+    let critical = if m > 0.0 && n > 0.0 {
+        1.358 * ((n + m) / (n * m)).sqrt()
+    } else {
+        1.0
+    };
+    let sigma = critical / 1.96;
+    let d = (!sim.is_empty()).then(|| ks_statistic(obs, sim));
+    Residual {
+        path: path.to_string(),
+        observed: 0.0,
+        simulated: d,
+        sigma,
+        z: d.map_or(MISSING_Z, |d| d / sigma),
     }
 }
 
@@ -196,6 +200,16 @@ mod tests {
         assert_eq!(ks_statistic(&[1.0, 3.0], &[2.0, 4.0]), 0.5);
         let d = ks_statistic(&[0.0, 1.0, 2.0, 3.0], &[1.5]);
         assert!((d - 0.5).abs() < 1e-12, "{d}");
+    }
+
+    #[test]
+    fn ks_residual_is_d_over_its_critical_value() {
+        // n = 4, m = 2, D = 0.5: D₀.₀₅ = 1.358 √(6/8)
+        let r = ks_residual("deposits.along", &[0.0, 1.0, 2.0, 3.0], &[1.5, 2.5]);
+        assert_eq!(r.simulated, Some(0.5));
+        let z = 1.96 * 0.5 / (1.358 * (6.0f64 / 8.0).sqrt());
+        assert!((r.z - z).abs() < 1e-12, "{} vs {z}", r.z);
+        assert_eq!(ks_residual("x", &[1.0, 2.0], &[]).z, MISSING_Z);
     }
 
     #[test]

@@ -93,7 +93,7 @@ pub fn search(dims: usize, budget: usize, seed: u64, eval: &mut Evaluate<'_>) ->
         .with_sd_tolerance(SD_TOLERANCE)
         .expect("a positive tolerance");
     let iters = (budget - done) as u64;
-    // the refinement ends by the budget (an error from the cost) or by convergence
+    // the refinement ends by the budget (every later point +∞, no run) or by convergence
     let _ = Executor::new(&cost, solver)
         .configure(|state| state.max_iters(iters))
         .run();
@@ -131,12 +131,15 @@ impl CostFunction for &Cost<'_, '_> {
         let j = match known {
             Some(j) => j,
             None => {
+                // argmin's Nelder–Mead unwraps some of its cost calls: once the budget is
+                // spent (or the caller stopped), every new point costs +∞ without a run, and
+                // the iterations left end cheaply
                 if *self.left.borrow() == 0 || *self.stopped.borrow() {
-                    return Err(Error::msg("the calibration's budget is spent"));
+                    return Ok(f64::INFINITY);
                 }
                 let Some(j) = (self.eval.borrow_mut())(&inside, Phase::Refine) else {
                     *self.stopped.borrow_mut() = true;
-                    return Err(Error::msg("stopped"));
+                    return Ok(f64::INFINITY);
                 };
                 *self.left.borrow_mut() -= 1;
                 self.seen.borrow_mut().insert(key, j);
@@ -208,6 +211,17 @@ mod tests {
         };
         search(1, 40, 3, &mut f);
         assert!(best.1[0] > 0.99 && best.1[0] <= 1.0, "{:?}", best.1);
+    }
+
+    #[test]
+    fn a_flat_objective_spends_the_budget_and_no_more() {
+        let mut n = 0;
+        let mut f = |_: &[f64], _: Phase| {
+            n += 1;
+            Some(1.0)
+        };
+        let done = search(3, 30, 2, &mut f);
+        assert!(done <= 30 && done == n, "{done} done, {n} calls");
     }
 
     #[test]

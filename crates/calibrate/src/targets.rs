@@ -17,7 +17,7 @@
 //! misfit, −2 log-likelihood per target for independent normal errors up to a constant). A
 //! candidate **fits** when every |z| ≤ 2.
 
-use rockfall_results::fair::{group_max, wilson_ci95};
+use rockfall_results::fair::{GroupMax, group_max, wilson_ci95};
 use rockfall_results::{Quantity, Results};
 use serde_json::Value;
 
@@ -196,20 +196,15 @@ pub fn residual(target: &Target, results: &Results, summary: &Value) -> Residual
     let plain = lookup(summary, &path).and_then(Value::as_f64);
     let (simulated, sigma) = match target.uncertainty {
         Uncertainty::Sd(sd) => (plain, sd),
-        Uncertainty::N(n) if is_share(&path) => {
-            let [lo, hi] = wilson_ci95(100.0 * observed, n);
-            (plain, ((hi - lo) / 100.0 / (2.0 * 1.959_964)).max(1e-9))
-        }
+        Uncertainty::N(n) if is_share(&path) => (plain, share_sigma(observed, n)),
         Uncertainty::N(n) => {
             let g = maximum_of(results, summary, &path, n)
                 .and_then(|(q, m)| group_max(&results.distribution(q)?, m.max(1.0)));
             match g {
-                Some(g) => (
-                    Some(g.p50),
-                    ((g.p95 - g.p5) / 3.29)
-                        .max(MAX_SIGMA_FLOOR * observed.abs())
-                        .max(1e-9),
-                ),
+                Some(g) => {
+                    let (s, sigma) = maximum_comparison(&g, observed);
+                    (Some(s), sigma)
+                }
                 None => (None, 1.0),
             }
         }
@@ -222,6 +217,23 @@ pub fn residual(target: &Target, results: &Results, summary: &Value) -> Residual
         sigma,
         z,
     }
+}
+
+/// σ of a share `p` (0–1) observed on `n` rocks: the half-width of its 95 % Wilson
+/// interval over 1.96.
+pub fn share_sigma(p: f64, n: u32) -> f64 {
+    let [lo, hi] = wilson_ci95(100.0 * p, n);
+    ((hi - lo) / 100.0 / (2.0 * 1.959_964)).max(1e-9)
+}
+
+/// The simulated value and σ of a maximum compared over groups of n rocks: the median of the
+/// group maximum, and its spread (p95 − p5)/3.29, at least [`MAX_SIGMA_FLOOR`] of the
+/// observed value.
+pub fn maximum_comparison(g: &GroupMax, observed: f64) -> (f64, f64) {
+    let sigma = ((g.p95 - g.p5) / 3.29)
+        .max(MAX_SIGMA_FLOOR * observed.abs())
+        .max(1e-9);
+    (g.p50, sigma)
 }
 
 /// The objective of a set of residuals: the mean of z² (ours; see the module docs).
@@ -310,6 +322,30 @@ mod tests {
             z,
         };
         assert_eq!(objective(&[r(1.0), r(3.0)]), 5.0);
-        assert!(fits(&[r(1.9), r(-2.0)]) && !fits(&[r(2.1)]));
+        assert!(fits(&[r(1.9), r(-2.0)]) && !fits(&[r(2.1)]) && !fits(&[r(-2.1)]));
+    }
+
+    #[test]
+    fn share_and_maximum_sigmas_by_hand() {
+        // 21 of 102: Wilson 95 % interval 14.2–29.9 %, half-width 7.85 pp
+        let s = share_sigma(0.21, 102);
+        assert!((s - 0.0785 / 1.96).abs() < 3e-4, "{s}");
+        // a maximum: the median of the group maximum, σ its 5–95 % spread / 3.29 …
+        let g = GroupMax {
+            group: 100.0,
+            p5: 20.0,
+            p50: 24.0,
+            p95: 29.87,
+        };
+        let (sim, sigma) = maximum_comparison(&g, 22.0);
+        assert_eq!(sim, 24.0);
+        assert!((sigma - 3.0).abs() < 1e-9, "{sigma}");
+        // … at least 5 % of the observed value where the runs all end alike
+        let flat = GroupMax {
+            p5: 24.0,
+            p95: 24.0,
+            ..g
+        };
+        assert!((maximum_comparison(&flat, 30.0).1 - 1.5).abs() < 1e-12);
     }
 }

@@ -185,6 +185,47 @@ fn minimal_rigid_scenario_parses() {
 }
 
 #[test]
+fn numbers_of_rocks_left_to_their_defaults_are_marked_so() {
+    // MINIMAL names rocks_per_point only: the cell count is the default's
+    let s = loads(MINIMAL);
+    let sim = &s.simulation;
+    assert_eq!(
+        (sim.rocks_per_cell_given, sim.rocks_per_point_given),
+        (false, true)
+    );
+    // without a [simulation] section neither is given, and a convergence run lifts both
+    let mut s = loads(&remove_simulation(MINIMAL));
+    assert!(!s.simulation.rocks_per_cell_given && !s.simulation.rocks_per_point_given);
+    assert!(
+        !s.simulation.apply_until_stable_caps(),
+        "no tolerance, no caps"
+    );
+    s.simulation.until_stable_pct = Some(2.0);
+    assert!(s.simulation.apply_until_stable_caps());
+    let cap = rockfall_scenario::UNTIL_STABLE_DEFAULT_CAP;
+    assert_eq!(
+        (s.simulation.rocks_per_cell, s.simulation.rocks_per_point),
+        (cap, cap)
+    );
+}
+
+/// `text` without its `[simulation]` section.
+fn remove_simulation(text: &str) -> String {
+    let mut out = String::new();
+    let mut skipping = false;
+    for line in text.lines() {
+        if line.starts_with('[') {
+            skipping = line.trim() == "[simulation]";
+        }
+        if !skipping {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    out
+}
+
+#[test]
 fn rigid_engine_settings_parse_and_are_checked() {
     let text = format!(
         "{MINIMAL}\n[rigid]\nsolver_alpha = 1.5\nsolver_tolerance_ms = 1e-5\n\

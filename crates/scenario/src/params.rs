@@ -414,6 +414,23 @@ mod tests {
     use super::*;
 
     #[test]
+    fn until_stable_caps_raise_only_the_counts_left_to_their_defaults() {
+        let mut s = SimulationSettings {
+            rocks_per_cell: 300,
+            rocks_per_point_given: false,
+            until_stable_pct: Some(1.0),
+            ..SimulationSettings::default()
+        };
+        assert!(s.apply_until_stable_caps());
+        assert_eq!(
+            (s.rocks_per_cell, s.rocks_per_point),
+            (300, UNTIL_STABLE_DEFAULT_CAP)
+        );
+        // once raised, the counts are given: applying again changes nothing
+        assert!(!s.apply_until_stable_caps());
+    }
+
+    #[test]
     fn settings_serialise_with_the_scenario_file_keys_and_names() {
         let l = LumpedSettings {
             moh: MohMode::Mean,

@@ -123,6 +123,19 @@ fn site_number(site: Site) -> u8 {
     }
 }
 
+/// The held-out site `test` with the free factors at the first values of `values` (the
+/// calibration's, in the order free factors, then site unknowns): its own release kept.
+pub fn held_out(
+    test: Site,
+    values: &[f64],
+) -> Result<rockfall_scenario::Scenario, ValidationError> {
+    let free = free_factors();
+    let mut s = vaujany::build_observed(test)?;
+    s.output.rocks_csv = true;
+    candidate(&s, &free, &values[..free.len()])
+        .map_err(|e| ValidationError::Calibration(e.to_string()))
+}
+
 /// One fold: calibrate on `fit`, report `test`.
 pub fn fold(
     fit: Site,
@@ -156,11 +169,7 @@ pub fn fold(
     observer.ended(&label);
     let best = c.best();
 
-    // the held-out site with the free factors only
-    let mut held_out = vaujany::build_observed(test)?;
-    held_out.output.rocks_csv = true;
-    let held_out = candidate(&held_out, &free, &best.values[..free.len()])
-        .map_err(|e| ValidationError::Calibration(e.to_string()))?;
+    let held_out = held_out(test, &best.values)?;
     let overrides = Overrides {
         rocks_per_cell: Some(v.site_rocks),
         ..overrides
@@ -215,4 +224,31 @@ pub fn crossval_cases(
         fold(Site::One, Site::Two, v, observer)?,
         fold(Site::Two, Site::One, v, observer)?,
     ])
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn only_the_free_factors_are_carried_to_the_held_out_site() {
+        let values = [1.5, 2.5, 12.0, 0.5, 1.4, 2.9];
+        assert_eq!(values.len(), free_factors().len() + site_unknowns().len());
+        let s = held_out(Site::Two, &values).unwrap();
+        let own = vaujany::build_observed(Site::Two).unwrap();
+        let l = &s.lumped;
+        assert_eq!(
+            [
+                l.roughness_tilt_factor,
+                l.lift_off_obstacle_factor,
+                l.rn_velocity_scale_ms,
+                l.soil_friction_scale
+            ],
+            [1.5, 2.5, 12.0, 0.5]
+        );
+        assert_eq!(s.release.cell_height_m, own.release.cell_height_m);
+        assert_eq!(s.release.cell_velocity_ms, own.release.cell_velocity_ms);
+        assert!(s.output.rocks_csv);
+    }
 }
