@@ -155,9 +155,9 @@ pub fn figures(c: &Calibration, out: &Path) -> Result<Vec<PathBuf>, CalibrationE
             label: if k == 0.0 {
                 "observed".into()
             } else if k > 0.0 {
-                "observed ± 2σ".into()
+                "observed + 2σ".into()
             } else {
-                String::new()
+                "observed − 2σ".into()
             },
             points: (0..c.evaluations.len())
                 .map(|i| (i as f64, r0.observed + k * r0.sigma))
@@ -186,7 +186,7 @@ pub fn figures(c: &Calibration, out: &Path) -> Result<Vec<PathBuf>, CalibrationE
         let path = out.join(format!("target_{}.png", t + 1));
         scatter_panels(
             &path,
-            &format!("{}: simulated against observed", r0.path),
+            &format!("target {}: simulated and observed", t + 1),
             &Axes::new("evaluation", &r0.path),
             &[panel],
         )
