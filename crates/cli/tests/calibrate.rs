@@ -38,6 +38,20 @@ value = 0.21
 n = 102
 "#;
 
+/// `rockfall calibrate SCENARIO --targets TARGETS --budget BUDGET --out OUT`.
+fn calibrate(scenario: &Path, targets: &Path, budget: &str, out: &Path) -> common::Run {
+    rockfall(&[
+        "calibrate",
+        s(scenario),
+        "--targets",
+        s(targets),
+        "--budget",
+        budget,
+        "--out",
+        s(out),
+    ])
+}
+
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);
     std::fs::write(&p, text).unwrap();
@@ -149,16 +163,7 @@ fn bad_keys_ranges_and_paths_exit_2_naming_them() {
     let scenario = site.join("scenario.toml");
     let run = |name: &str, text: &str| {
         let targets = write(tmp.path(), name, text);
-        rockfall(&[
-            "calibrate",
-            s(&scenario),
-            "--targets",
-            s(&targets),
-            "--budget",
-            "2",
-            "--out",
-            s(&tmp.path().join("out")),
-        ])
+        calibrate(&scenario, &targets, "2", &tmp.path().join("out"))
     };
     let with = |parameter: &str| format!("{parameter}\n{TARGETS}");
     let key =
@@ -263,16 +268,7 @@ fn deposits_outside_the_dem_or_in_another_crs_exit_2() {
             "t.toml",
             &format!("{PARAMETERS}\n[deposits]\npoints = \"{}\"\n", s(deposits)),
         );
-        rockfall(&[
-            "calibrate",
-            s(&scenario),
-            "--targets",
-            s(&targets),
-            "--budget",
-            "2",
-            "--out",
-            s(&tmp.path().join("out")),
-        ])
+        calibrate(&scenario, &targets, "2", &tmp.path().join("out"))
     };
     let inside = [[939420.0, 6460200.0], [939430.0, 6460180.0]];
     let outside = [[939420.0, 6460200.0], [939000.0, 6460180.0]];
@@ -292,16 +288,7 @@ fn deposits_outside_the_dem_or_in_another_crs_exit_2() {
         &format!("{PARAMETERS}\n[deposits]\npoints = \"ok.geojson\"\n"),
     );
     layer("ok.geojson", 2154, &inside);
-    ok(rockfall(&[
-        "calibrate",
-        s(&scenario),
-        "--targets",
-        s(&targets),
-        "--budget",
-        "3",
-        "--out",
-        s(&out),
-    ]));
+    ok(calibrate(&scenario, &targets, "3", &out));
     let c = json(&out.join("calibration.json"));
     let paths: Vec<&str> = (c["best"]["residuals"].as_array().unwrap().iter())
         .map(|r| r["path"].as_str().unwrap())
