@@ -35,24 +35,17 @@ const PLAIN_KEYS: [&str; 5] = [
     "simulation.dt_s",
 ];
 
-fn field_mut<'a>(s: &'a mut Scenario, key: &str) -> Option<&'a mut Option<Field>> {
-    // the optional maps; the others are wrapped by `with_field`
+/// Puts `f` in the per-cell key `key` of `s` (one of [`FIELD_KEYS`]).
+fn set_field(s: &mut Scenario, key: &str, f: Field) {
     let t = &mut s.terrain.surface;
     match key {
-        "terrain.r_n" => Some(&mut t.r_n),
-        "terrain.rolling_friction" => Some(&mut t.rolling_friction),
-        _ => None,
-    }
-}
-
-fn required_field<'a>(s: &'a mut Scenario, key: &str) -> Option<&'a mut Field> {
-    let t = &mut s.terrain.surface;
-    match key {
-        "terrain.rg70_m" => Some(&mut t.rg70_m),
-        "terrain.rg20_m" => Some(&mut t.rg20_m),
-        "terrain.rg10_m" => Some(&mut t.rg10_m),
-        "rock.density_kg_m3" => Some(&mut s.rock.density_kg_m3),
-        _ => None,
+        "terrain.r_n" => t.r_n = Some(f),
+        "terrain.rolling_friction" => t.rolling_friction = Some(f),
+        "terrain.rg70_m" => t.rg70_m = f,
+        "terrain.rg20_m" => t.rg20_m = f,
+        "terrain.rg10_m" => t.rg10_m = f,
+        "rock.density_kg_m3" => s.rock.density_kg_m3 = f,
+        _ => {}
     }
 }
 
@@ -198,14 +191,7 @@ pub fn apply(s: &mut Scenario, base: &Scenario, p: &Parameter, x: f64) -> Result
                 ));
             }
         };
-        match (field_mut(s, key), new) {
-            (Some(slot), f) => *slot = Some(f),
-            (None, f) => {
-                if let Some(slot) = required_field(s, key) {
-                    *slot = f;
-                }
-            }
-        }
+        set_field(s, key, new);
         return Ok(());
     }
     match key {

@@ -89,9 +89,10 @@ pub fn search(dims: usize, budget: usize, seed: u64, eval: &mut Evaluate<'_>) ->
         seen: RefCell::new(HashMap::new()),
         stopped: RefCell::new(false),
     };
-    let solver = NelderMead::new(simplex(&start, 0.1))
-        .with_sd_tolerance(SD_TOLERANCE)
-        .expect("a positive tolerance");
+    // argmin refuses only a negative tolerance; without a solver the design is the search
+    let Ok(solver) = NelderMead::new(simplex(&start, 0.1)).with_sd_tolerance(SD_TOLERANCE) else {
+        return done;
+    };
     let iters = (budget - done) as u64;
     // the refinement ends by the budget (every later point +∞, no run) or by convergence
     let _ = Executor::new(&cost, solver)
