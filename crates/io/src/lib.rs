@@ -14,6 +14,7 @@
 //! Every error is an [`InputError`] naming the file and, where it applies, the line, the cell
 //! or the key. Nothing here panics on bad input.
 
+mod contact_file;
 mod error;
 mod nets;
 pub mod rockyfor;

@@ -88,6 +88,7 @@ pub fn read_folder(dir: &Path) -> Result<Scenario, InputError> {
         soil_type: field("soiltype", soiltype),
         r_n: None,
         rolling_friction: None,
+        ground_class: None,
         rg70_m: field("rg70", rg70),
         rg20_m: field("rg20", rg20),
         rg10_m: field("rg10", rg10),

@@ -7,9 +7,8 @@ use crate::{InputError, scenario_error, trees};
 use rockfall_forest::StandOptions;
 use rockfall_raster::{Crs, Field, Grid, read_grid};
 use rockfall_scenario::{
-    BlockShape, ContactParams, ContactSettings, Engine, ForestSpec, LumpedSettings, Nets,
-    OutputSettings, Release, ReleasePoint, RigidParams, RockShape, RockSpec, Scenario, Screen,
-    SimulationSettings, Slippage, Stands,
+    BlockShape, Engine, ForestSpec, LumpedSettings, Nets, OutputSettings, Release, ReleasePoint,
+    RigidParams, RockShape, RockSpec, Scenario, Screen, SimulationSettings, Stands,
 };
 use rockfall_terrain::{Dem, SurfaceMap, Terrain};
 use std::collections::BTreeMap;
@@ -176,7 +175,8 @@ impl Resolver {
             .collect();
         let lumped = self.lumped(f.lumped)?;
         let rigid = rigid(f.rigid);
-        let contact = contact(f.contact);
+        let contact =
+            crate::contact_file::contact(f.contact).map_err(|(key, m)| self.invalid(&key, m))?;
         let simulation = simulation(f.simulation);
         let output = output(f.output);
         let name = f.name.unwrap_or_else(|| {
@@ -220,6 +220,9 @@ impl Resolver {
             r_n: t.r_n.map(|p| self.field("r_n", Some(p), 0.0)).transpose()?,
             rolling_friction: (t.rolling_friction)
                 .map(|p| self.field("rolling_friction", Some(p), 0.0))
+                .transpose()?,
+            ground_class: (t.ground_class)
+                .map(|p| self.field("ground_class", Some(p), 0.0))
                 .transpose()?,
             rg70_m: self.field("rg70", t.rg70_m, 0.0)?,
             rg20_m: self.field("rg20", t.rg20_m, 0.0)?,
@@ -560,29 +563,6 @@ fn rigid(r: Option<schema::RigidSec>) -> RigidParams {
         max_speed_ms: r.max_speed_ms.unwrap_or(d.max_speed_ms),
         linear_damping_per_s: r.linear_damping_per_s.unwrap_or(d.linear_damping_per_s),
         angular_damping_per_s: r.angular_damping_per_s.unwrap_or(d.angular_damping_per_s),
-    }
-}
-
-fn contact(c: Option<schema::ContactSec>) -> ContactSettings {
-    let d = ContactSettings::default();
-    let Some(c) = c else { return d };
-    let params = |p: Option<schema::ContactParamsSec>, d: ContactParams| match p {
-        None => d,
-        Some(p) => ContactParams {
-            mu: p.mu.unwrap_or(d.mu),
-            eps_n: p.eps_n.unwrap_or(d.eps_n),
-            eps_t: p.eps_t.unwrap_or(d.eps_t),
-        },
-    };
-    ContactSettings {
-        ground: params(c.ground, d.ground),
-        tree: params(c.tree, d.tree),
-        slippage: c.slippage.map(|s| Slippage {
-            mu_min: s.mu_min,
-            mu_max: s.mu_max,
-            beta_per_s: s.beta_per_s,
-            kappa_per_m: s.kappa_per_m,
-        }),
     }
 }
 

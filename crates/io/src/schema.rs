@@ -72,6 +72,7 @@ pub struct TerrainSec {
     pub soiltype: Option<Param>,
     pub r_n: Option<Param>,
     pub rolling_friction: Option<Param>,
+    pub ground_class: Option<Param>,
     pub rg70_m: Option<Param>,
     pub rg20_m: Option<Param>,
     pub rg10_m: Option<Param>,
@@ -182,9 +183,84 @@ pub struct LumpedSec {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSec {
-    pub ground: Option<ContactParamsSec>,
+    pub ground: Option<GroundSec>,
     pub tree: Option<ContactParamsSec>,
     pub slippage: Option<SlippageSec>,
+    pub ground_class: Option<Vec<GroundClassSec>>,
+}
+
+/// `[contact.ground]`: the hard law's μ, ε and the ground model with the scarring ground's
+/// class and parameters.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroundSec {
+    pub mu: Option<f64>,
+    pub eps_n: Option<f64>,
+    pub eps_t: Option<f64>,
+    pub model: Option<String>,
+    pub class: Option<String>,
+    pub me_mn_m2: Option<f64>,
+    pub c_s: Option<f64>,
+    pub c_f: Option<f64>,
+    pub rho_kg_m3: Option<f64>,
+    pub mu_min: Option<f64>,
+    pub mu_max: Option<f64>,
+    pub beta_per_s: Option<f64>,
+    pub kappa_per_m: Option<f64>,
+}
+
+/// The scarring ground's parameters as a file gives them, each optional (the class's value
+/// stands in): the keys of `[contact.ground]` and `[[contact.ground_class]]`.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct ScarringKeys {
+    pub me_mn_m2: Option<f64>,
+    pub c_s: Option<f64>,
+    pub c_f: Option<f64>,
+    pub rho_kg_m3: Option<f64>,
+    pub mu_min: Option<f64>,
+    pub mu_max: Option<f64>,
+    pub beta_per_s: Option<f64>,
+    pub kappa_per_m: Option<f64>,
+}
+
+macro_rules! scarring_keys {
+    ($t:ty) => {
+        impl $t {
+            /// The scarring ground's keys of this table.
+            pub fn scarring_keys(&self) -> ScarringKeys {
+                ScarringKeys {
+                    me_mn_m2: self.me_mn_m2,
+                    c_s: self.c_s,
+                    c_f: self.c_f,
+                    rho_kg_m3: self.rho_kg_m3,
+                    mu_min: self.mu_min,
+                    mu_max: self.mu_max,
+                    beta_per_s: self.beta_per_s,
+                    kappa_per_m: self.kappa_per_m,
+                }
+            }
+        }
+    };
+}
+scarring_keys!(GroundSec);
+scarring_keys!(GroundClassSec);
+
+/// `[[contact.ground_class]]`: a ground class of the scenario's own.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroundClassSec {
+    pub id: i64,
+    pub name: String,
+    pub base: Option<String>,
+    pub source: Option<String>,
+    pub me_mn_m2: Option<f64>,
+    pub c_s: Option<f64>,
+    pub c_f: Option<f64>,
+    pub rho_kg_m3: Option<f64>,
+    pub mu_min: Option<f64>,
+    pub mu_max: Option<f64>,
+    pub beta_per_s: Option<f64>,
+    pub kappa_per_m: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -160,6 +160,9 @@ impl Writer {
         if let Some(m) = &sf.rolling_friction {
             t += &self.param("rolling_friction", "rolling_friction.asc", m)?;
         }
+        if let Some(m) = &sf.ground_class {
+            t += &self.param("ground_class", "ground_class.asc", m)?;
+        }
         t += &self.param("rg70_m", "rg70.asc", &sf.rg70_m)?;
         t += &self.param("rg20_m", "rg20.asc", &sf.rg20_m)?;
         t += &self.param("rg10_m", "rg10.asc", &sf.rg10_m)?;
@@ -331,6 +334,22 @@ fn settings_toml(s: &Scenario, t: &mut String) {
             num(p.eps_n),
             num(p.eps_t)
         );
+        if name == "ground" {
+            let d = &c.scarring.default;
+            let _ = write!(t, "model = \"{}\"\nclass = {}\n", c.model, quote(&d.name));
+            t.push_str(&scarring_keys(&d.params));
+        }
+    }
+    let builtin = rockfall_scenario::ground::builtin_ground_classes();
+    for class in c.scarring.classes.iter().filter(|k| !builtin.contains(k)) {
+        let _ = write!(
+            t,
+            "\n[[contact.ground_class]]\nid = {}\nname = {}\nsource = {}\n",
+            class.id,
+            quote(&class.name),
+            quote(&class.source)
+        );
+        t.push_str(&scarring_keys(&class.params));
     }
     if let Some(sl) = c.slippage {
         let _ = write!(
@@ -398,5 +417,21 @@ fn arr(v: &[f64]) -> String {
     format!(
         "[{}]",
         v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ")
+    )
+}
+
+/// The scarring ground's keys of `g`, one per line.
+fn scarring_keys(g: &rockfall_scenario::ScarringGround) -> String {
+    format!(
+        "me_mn_m2 = {}\nc_s = {}\nc_f = {}\nrho_kg_m3 = {}\nmu_min = {}\nmu_max = {}\n\
+         beta_per_s = {}\nkappa_per_m = {}\n",
+        num(g.me_mn_m2),
+        num(g.c_s),
+        num(g.c_f),
+        num(g.rho_kg_m3),
+        num(g.mu_min),
+        num(g.mu_max),
+        num(g.beta_per_s),
+        num(g.kappa_per_m)
     )
 }

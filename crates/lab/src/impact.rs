@@ -266,6 +266,7 @@ impl Lab {
                 eps_t: s.eps_t,
             },
             slippage: None,
+            scar: None,
             linear_damping_per_s: 0.0,
             angular_damping_per_s: 0.0,
             solver: s.solver,

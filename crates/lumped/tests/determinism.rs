@@ -39,6 +39,7 @@ fn scenario() -> (Scenario, Forest) {
         })),
         r_n: None,
         rolling_friction: None,
+        ground_class: None,
         rg70_m: Field::Const(0.03),
         rg20_m: Field::Grid(Grid::from_fn(g, |_, _| Some(0.1 * rng.random::<f64>()))),
         rg10_m: Field::Const(0.2),

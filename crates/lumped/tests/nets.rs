@@ -37,6 +37,7 @@ fn scenario() -> Scenario {
         soil_type: Field::Const(4.0),
         r_n: None,
         rolling_friction: None,
+        ground_class: None,
         rg70_m: Field::Const(0.05),
         rg20_m: Field::Const(0.1),
         rg10_m: Field::Const(0.2),

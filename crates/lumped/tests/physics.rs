@@ -384,6 +384,7 @@ fn rough_site(seed: u64) -> (Scenario, Forest) {
         })),
         r_n: None,
         rolling_friction: None,
+        ground_class: None,
         rg70_m: per_cell(0.0, 0.05, &mut rng),
         rg20_m: per_cell(0.02, 0.1, &mut rng),
         rg10_m: per_cell(0.05, 0.3, &mut rng),

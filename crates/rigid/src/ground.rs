@@ -123,6 +123,24 @@ impl Ground {
             .map_or(Under::Off, Under::Surface)
     }
 
+    /// Whether the rock `geom` with its centre of mass at `c` can touch the DEM surface
+    /// (`s_c` is the ground under `c`): `None` when it may, else `Some` of a [`Clearance`] that
+    /// later steps may test instead (or `Some(None)` when the wider bound does not clear).
+    /// It is the broad phase of [`Ground::contacts`].
+    pub fn clear_of(
+        &self,
+        geom: &RockGeometry,
+        c: V3,
+        s_c: &SurfacePoint,
+    ) -> Option<Option<Clearance>> {
+        let radius = geom.circumradius_m;
+        let plane = |x: f64, y: f64| s_c.z_m + s_c.dzdx * (x - c.x) + s_c.dzdy * (y - c.y);
+        let excess = self.footprint_excess(c, radius, &plane);
+        let n_z = s_c.normal()[2];
+        ((c.z - plane(c.x, c.y) - excess) * n_z > radius)
+            .then(|| self.clearance(c, radius, s_c, n_z, &plane))
+    }
+
     /// Appends to `out` the contacts (gap ≤ 0) of the rock `geom` with its centre of mass at
     /// `c` and rotation matrix `rot` (body → world); `s_c` is the ground under `c`. When the
     /// rock's bounding ball clears the ground, returns a [`Clearance`] that later steps may
@@ -167,7 +185,7 @@ impl Ground {
                 });
             }
         }
-        self.node_contacts(geom, c, rot, out);
+        self.node_contacts_below(geom, c, rot, 0.0, out);
         None
     }
 
@@ -230,12 +248,19 @@ impl Ground {
         }
     }
 
-    /// Contacts of DEM nodes inside the hull.
-    fn node_contacts(&self, geom: &RockGeometry, c: V3, rot: &M3, out: &mut Vec<GroundContact>) {
+    /// Contacts of DEM nodes, lowered by `depth_m` (0: the surface itself), inside the hull.
+    pub fn node_contacts_below(
+        &self,
+        geom: &RockGeometry,
+        c: V3,
+        rot: &M3,
+        depth_m: f64,
+        out: &mut Vec<GroundContact>,
+    ) {
         let radius = geom.circumradius_m;
         let to_body = rot.transpose();
         self.for_each_node(c, radius, |x, y, z, key| {
-            let p = V3::new(x, y, z);
+            let p = V3::new(x, y, z - depth_m);
             if !z.is_finite() || (p - c).length_squared() >= radius * radius {
                 return;
             }

@@ -16,6 +16,7 @@ pub use math::{M3, Quat, V3};
 
 pub mod ground;
 pub mod rock;
+pub mod scar;
 pub mod stems;
 pub mod step;
 
@@ -25,8 +26,9 @@ use rockfall_engine::{Engine, Origin, Release, Rock};
 use rockfall_forest::Forest;
 use rockfall_results::{ScreenSet, Tally};
 use rockfall_rng::Rng;
-use rockfall_scenario::{RigidParams, Scenario};
+use rockfall_scenario::{GroundModel, RigidParams, Scenario};
 use rockfall_terrain::Lattice;
+use scar::ScarMap;
 use shape::{RockBody, ShapeError, body_from_spec};
 use solver::SolverSettings;
 use stems::Stand;
@@ -47,6 +49,14 @@ pub enum RigidError {
         x_m: f64,
         /// y, m.
         y_m: f64,
+    },
+    /// The ground-class map names a class the scenario does not define.
+    #[error(
+        "terrain.ground_class: class {id} is not defined (built-in classes 3, 4, 5 or a [[contact.ground_class]] of that id)"
+    )]
+    UnknownGroundClass {
+        /// The class number.
+        id: u8,
     },
     /// A release has an unusable value.
     #[error("release at ({x_m}, {y_m}): {what}")]
@@ -106,6 +116,7 @@ pub struct RigidModel<'f> {
     max_time_s: f64,
     record_interval_s: f64,
     contact: rockfall_scenario::ContactSettings,
+    scar: Option<ScarMap>,
     settings: RigidSettings,
 }
 
@@ -113,6 +124,17 @@ impl<'f> RigidModel<'f> {
     /// Prepares `scenario` (already validated) with `forest` (or none).
     pub fn new(scenario: &Scenario, forest: Option<&'f Forest>) -> Result<Self, RigidError> {
         let ground = Ground::new(Lattice::new(&scenario.terrain.dem));
+        let scar = match scenario.contact.model {
+            GroundModel::Hard => None,
+            GroundModel::Scarring => Some(
+                ScarMap::new(
+                    &scenario.contact.scarring,
+                    scenario.terrain.surface.ground_class.as_ref(),
+                    scenario.terrain.dem.geometry(),
+                )
+                .map_err(|id| RigidError::UnknownGroundClass { id })?,
+            ),
+        };
         let body = body_from_spec(&scenario.rock)?;
         let forest = forest.filter(|f| !f.is_empty());
         let stand = forest.map(|f| {
@@ -131,6 +153,7 @@ impl<'f> RigidModel<'f> {
             max_time_s: scenario.simulation.max_time_s,
             record_interval_s: scenario.output.trajectory_interval_s,
             contact: scenario.contact.clone(),
+            scar,
             settings: RigidSettings::from_params(&scenario.rigid),
         })
     }
@@ -165,6 +188,7 @@ impl<'f> RigidModel<'f> {
             ground: self.contact.ground,
             tree: self.contact.tree,
             slippage: self.contact.slippage,
+            scar: self.scar.as_ref(),
             linear_damping_per_s: self.settings.linear_damping_per_s,
             angular_damping_per_s: self.settings.angular_damping_per_s,
             solver: self.settings.solver,

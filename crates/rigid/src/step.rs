@@ -22,10 +22,16 @@
 //! Ground friction is μ of `[contact.ground]`, or, with slippage (RAMMS; Leine et al. 2014),
 //! `μ(s) = μ_min + (2/π)(μ_max − μ_min)·atan(κ s)` with `ṡ = |v|` while the rock touches the
 //! ground and `ṡ = −β s` in flight.
+//!
+//! With the scarring ground ([`crate::scar`]; Lu et al. 2019) step 2 looks for the rock in the
+//! scarring layer instead: the contacts are those with the rebound plane, the scar drag enters
+//! the free velocity of step 3 (`v_free = v_B/(1 + k|v_B|Δt) + g Δt`), and the slippage grows
+//! while a contact with the rebound plane carries force.
 
 use crate::ground::{Clearance, Ground, GroundContact, Under};
 use crate::math::{M3, Quat, V3, finite};
 use crate::rotation::{free_rotation_step, inverse_inertia_world, rotate};
+use crate::scar::{self, ImmersionScratch, Scar, ScarMap};
 use crate::shape::RockBody;
 use crate::solver::{Contact, InverseMass, SolverSettings, Velocity, solve};
 use crate::stems::{Stand, StemContact};
@@ -72,8 +78,10 @@ pub struct StepParams<'a> {
     pub ground: ContactParams,
     /// Rock–stem contact law.
     pub tree: ContactParams,
-    /// Slippage friction on the ground, replacing `ground.mu`.
+    /// Slippage friction on the ground, replacing `ground.mu` (hard ground only).
     pub slippage: Option<Slippage>,
+    /// The scarring ground's classes; `None` for the hard ground.
+    pub scar: Option<&'a ScarMap>,
     /// Linear damping rate c_v, 1/s (0: none).
     pub linear_damping_per_s: f64,
     /// Angular damping rate c_ω, 1/s (0: none).
@@ -94,6 +102,12 @@ pub struct StepScratch {
     clearance: Option<Clearance>,
     /// Slippage s of the current rock, m.
     pub slippage_m: f64,
+    /// The scarring ground's last impact (its rebound plane and ground class).
+    pub scar: Option<Scar>,
+    /// Whether the rock is in the scarring layer.
+    pub in_scar: bool,
+    /// Buffers of the immersion analysis.
+    immersion: ImmersionScratch,
     /// Counts over every step taken with this scratch.
     pub stats: StepStats,
 }
@@ -133,6 +147,8 @@ impl StepScratch {
         self.previous.clear();
         self.clearance = None;
         self.slippage_m = 0.0;
+        self.scar = None;
+        self.in_scar = false;
     }
 
     /// Stems touched in the last step.
@@ -167,6 +183,8 @@ pub struct StepReport {
     /// Mean speed at which the ground contact points slip over the ground at the end of the
     /// step, m/s (0 without ground contacts): the tangential part of v_E + ω_E × r at each.
     pub slip_ms: f64,
+    /// Whether the rock is in the scarring layer (scarring ground only).
+    pub in_scar: bool,
 }
 
 /// Advances `state` by one time step.
@@ -185,12 +203,23 @@ pub fn step(
     scratch.ground.clear();
     scratch.stems.clear();
     let under = ground.under(r_m.x, r_m.y);
+    let mut drag_per_m = 0.0;
+    let mut near = false;
     if let Under::Surface(s) = &under {
         let clear = (scratch.clearance).is_some_and(|c| c.clears(r_m, geom.circumradius_m));
-        if !clear {
-            scratch.clearance = ground.contacts(geom, r_m, &rot, s, &mut scratch.ground);
+        near = !clear;
+        match (clear, p.scar) {
+            (true, _) => {}
+            (false, None) => {
+                scratch.clearance = ground.contacts(geom, r_m, &rot, s, &mut scratch.ground);
+            }
+            (false, Some(map)) => {
+                drag_per_m = scar_contacts(state, p, map, ground, r_m, &rot, s, scratch);
+            }
         }
     }
+    // off the DEM, or clear of the ground: out of the scarring layer
+    scratch.in_scar &= near;
     if let Some(stand) = stand {
         stand.contacts(geom, r_m, q_m, &mut scratch.stems);
     }
@@ -202,8 +231,11 @@ pub fn step(
     if p.angular_damping_per_s > 0.0 {
         w_free *= (-p.angular_damping_per_s * p.dt_s).exp();
     }
+    if drag_per_m > 0.0 {
+        v_free = scar::after_drag(v_free, drag_per_m, p.dt_s);
+    }
     v_free += p.gravity_ms2 * p.dt_s;
-    let mu_ground = ground_mu(p, scratch.slippage_m);
+    let mu_ground = ground_mu(p, scratch.slippage_m, scratch.scar.as_ref());
     gather(scratch, r_m, mu_ground, p);
     let (v_e, w_e, iterations, converged) = if scratch.contacts.is_empty() {
         scratch.previous.clear();
@@ -250,6 +282,64 @@ pub fn step(
         converged,
         under,
         slip_ms,
+        in_scar: scratch.in_scar,
+    }
+}
+
+/// The scarring ground's step 2 (see [`crate::scar`]): whether the rock at `r_m` with rotation
+/// `rot` is in the scarring layer (a new impact fixes its rebound plane from the vertical
+/// speed of `state` and the ground class under `r_m`), its contacts with the rebound plane
+/// into `scratch.ground`, and the rate of the scar drag k = ½ C_d ρ_Σ A_Γ / M, 1/m (0 outside
+/// the layer).
+#[allow(clippy::too_many_arguments)]
+fn scar_contacts(
+    state: &RockState,
+    p: &StepParams<'_>,
+    map: &ScarMap,
+    ground: &Ground,
+    r_m: V3,
+    rot: &M3,
+    s: &rockfall_terrain::SurfacePoint,
+    scratch: &mut StepScratch,
+) -> f64 {
+    let geom = &p.body.geometry;
+    if let Some(clearance) = ground.clear_of(geom, r_m, s) {
+        scratch.clearance = clearance;
+        scratch.in_scar = false;
+        return 0.0;
+    }
+    scratch.clearance = None;
+    if scar::immersion(ground, geom, r_m, rot, &mut scratch.immersion) <= 0.0 {
+        scratch.in_scar = false;
+        return 0.0;
+    }
+    if !scratch.in_scar || scratch.scar.is_none() {
+        let class = map.at(ground, r_m.x, r_m.y);
+        scratch.scar = Some(Scar {
+            depth_m: scar::rebound_depth_m(p.body.mass_kg, class.me_mn_m2, state.v_ms.z),
+            ground: class,
+        });
+        scratch.in_scar = true;
+    }
+    let Some(impact) = scratch.scar else {
+        return 0.0;
+    };
+    let immersion = &mut scratch.immersion;
+    scar::plane_contacts(
+        ground,
+        geom,
+        r_m,
+        rot,
+        impact.depth_m,
+        immersion,
+        &mut scratch.ground,
+    );
+    let speed = state.v_ms.length();
+    if speed > 0.0 {
+        let area = scar::frontal_area_m2(geom, state.v_ms / speed, immersion);
+        scar::drag_rate_per_m(&impact.ground, area, p.body.mass_kg)
+    } else {
+        0.0
     }
 }
 
@@ -269,27 +359,50 @@ fn mean_slip_ms(ground: &[GroundContact], r: V3, v: V3, w: V3) -> f64 {
     total / ground.len() as f64
 }
 
-/// Ground friction coefficient at slippage `s_m`.
-fn ground_mu(p: &StepParams<'_>, s_m: f64) -> f64 {
-    match p.slippage {
-        None => p.ground.mu,
-        Some(sl) => {
-            sl.mu_min
-                + std::f64::consts::FRAC_2_PI
-                    * (sl.mu_max - sl.mu_min)
-                    * (sl.kappa_per_m * s_m).atan()
-        }
-    }
+/// Ground friction coefficient at slippage `s_m`: the scarring ground's on its rebound plane
+/// (Lu et al. 2019 eq. 13), else the hard ground's μ or its slippage friction.
+fn ground_mu(p: &StepParams<'_>, s_m: f64, scar: Option<&Scar>) -> f64 {
+    let slippage = match (p.scar, scar) {
+        (Some(_), Some(scar)) => Slippage {
+            mu_min: scar.ground.mu_min,
+            mu_max: scar.ground.mu_max,
+            beta_per_s: scar.ground.beta_per_s,
+            kappa_per_m: scar.ground.kappa_per_m,
+        },
+        _ => match p.slippage {
+            None => return p.ground.mu,
+            Some(sl) => sl,
+        },
+    };
+    slippage_mu(&slippage, s_m)
 }
 
-/// RAMMS slippage: `ṡ = |v|` in ground contact, `ṡ = −β s` otherwise.
+/// `μ(s) = μ_min + (2/π)(μ_max − μ_min)·atan(κ s)` (Leine et al. 2014 eq. 46; Lu et al. 2019
+/// eq. 13).
+fn slippage_mu(sl: &Slippage, s_m: f64) -> f64 {
+    sl.mu_min
+        + std::f64::consts::FRAC_2_PI * (sl.mu_max - sl.mu_min) * (sl.kappa_per_m * s_m).atan()
+}
+
+/// RAMMS slippage: `ṡ = |v|` in ground contact, `ṡ = −β s` otherwise (Leine et al. 2014
+/// eq. 47). On the scarring ground a contact counts when it carries force (λ_N > 0, as eq. 47
+/// says) and β is that of the last impact's ground (Lu et al. 2019 eq. 14).
 fn advance_slippage(p: &StepParams<'_>, scratch: &mut StepScratch, v_e: V3) {
-    if let Some(sl) = p.slippage {
-        if scratch.ground.is_empty() {
-            scratch.slippage_m *= (-sl.beta_per_s * p.dt_s).exp();
-        } else {
-            scratch.slippage_m += v_e.length() * p.dt_s;
+    let (beta_per_s, touching) = match (p.scar, scratch.scar, p.slippage) {
+        (Some(_), Some(scar), _) => {
+            let n = scratch.ground.len().min(scratch.contacts.len());
+            let pushing = scratch.contacts[..n]
+                .iter()
+                .any(|c| c.percussion_ns.x > 0.0);
+            (scar.ground.beta_per_s, pushing)
         }
+        (Some(_), None, _) | (None, _, None) => return,
+        (None, _, Some(sl)) => (sl.beta_per_s, !scratch.ground.is_empty()),
+    };
+    if touching {
+        scratch.slippage_m += v_e.length() * p.dt_s;
+    } else {
+        scratch.slippage_m *= (-beta_per_s * p.dt_s).exp();
     }
 }
 

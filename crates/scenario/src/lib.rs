@@ -14,6 +14,7 @@
 //! [`Scenario::sources`].
 
 mod error;
+pub mod ground;
 mod params;
 mod release;
 pub mod rock;
@@ -21,6 +22,7 @@ mod summary;
 mod validate;
 
 pub use error::ScenarioError;
+pub use ground::{GroundClass, GroundModel, ScarringGround, ScarringSettings};
 pub use params::{
     ContactParams, ContactSettings, Engine, LumpedSettings, MohMode, OutputSettings, RigidParams,
     SimulationSettings, Slippage, TangentialLaw, UNTIL_STABLE_DEFAULT_CAP,

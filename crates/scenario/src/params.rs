@@ -1,5 +1,6 @@
 //! Engine choice and the plain parameter sets of a scenario, with their documented defaults.
 
+use crate::ground::{GroundModel, ScarringSettings};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
@@ -243,8 +244,12 @@ pub struct ContactSettings {
     pub ground: ContactParams,
     /// Rock–tree contact (default μ 0.6, ε_N = ε_T = 0: seed 001 §2, table 1).
     pub tree: ContactParams,
-    /// Optional slippage friction on the ground (replaces `ground.mu`).
+    /// Optional slippage friction on the ground (replaces `ground.mu`) of the hard law.
     pub slippage: Option<Slippage>,
+    /// The rock–ground law (`[contact.ground] model`; default `hard`).
+    pub model: GroundModel,
+    /// The scarring ground's classes (used when `model` is `scarring`).
+    pub scarring: ScarringSettings,
 }
 
 impl Default for ContactSettings {
@@ -261,6 +266,8 @@ impl Default for ContactSettings {
                 eps_t: 0.0,
             },
             slippage: None,
+            model: GroundModel::Hard,
+            scarring: ScarringSettings::default(),
         }
     }
 }

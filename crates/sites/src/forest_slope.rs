@@ -26,6 +26,7 @@ use rockfall_scenario::{
     ContactParams, ContactSettings, Engine, ForestSpec, LumpedSettings, OutputSettings, Release,
     ReleasePoint, RigidParams, RockSpec, Scenario, Screen, SimulationSettings, Slippage,
 };
+use rockfall_scenario::{GroundModel, ScarringSettings};
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
 use std::collections::BTreeMap;
 
@@ -46,9 +47,10 @@ pub fn slope_length_m() -> f64 {
     DROP_M / SLOPE_DEG.to_radians().tan()
 }
 
-/// The rock–ground law of Leine et al. (2014), reference [12] of seed 001: ε_N = ε_T = 0 with
-/// their slippage friction (μ_min 0.2, μ_max 1.3, β 20 s⁻¹, κ 0.7 m⁻¹; μ 0.2 without
-/// slippage); stems with seed 001's μ = 0.1 and ε = 0.
+/// The rock–ground law of Leine et al. (2014), reference [12] of seed 001, as the hard ground:
+/// ε_N = ε_T = 0 with their slippage friction (μ_min 0.2, μ_max 1.3, β 20 s⁻¹, κ 0.7 m⁻¹; μ 0.2
+/// without slippage); stems with seed 001's μ = 0.1 and ε = 0. The built-in rigid sites used
+/// it before the scarring ground; `rockfall validate` keeps it as the named alternative.
 pub fn leine_2014_contact() -> ContactSettings {
     ContactSettings {
         ground: ContactParams {
@@ -67,6 +69,19 @@ pub fn leine_2014_contact() -> ContactSettings {
             beta_per_s: 20.0,
             kappa_per_m: 0.7,
         }),
+        model: GroundModel::Hard,
+        scarring: ScarringSettings::default(),
+    }
+}
+
+/// RAMMS::ROCKFALL's production ground (Lu et al. 2019): the scarring ground of the `medium`
+/// class (their whole-trajectory set), ε_N = ε_T = 0 on the rebound plane; stems with seed
+/// 001's μ = 0.1 and ε = 0. The built-in rigid sites use it.
+pub fn scarring_contact() -> ContactSettings {
+    ContactSettings {
+        model: GroundModel::Scarring,
+        slippage: None,
+        ..leine_2014_contact()
     }
 }
 
@@ -142,7 +157,7 @@ pub fn build() -> Result<Scenario, SiteError> {
         }],
         lumped: LumpedSettings::default(),
         rigid: RigidParams::default(),
-        contact: leine_2014_contact(),
+        contact: scarring_contact(),
         simulation: SimulationSettings {
             rocks_per_point: 500,
             ..SimulationSettings::default()

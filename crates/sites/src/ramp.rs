@@ -3,21 +3,21 @@
 //! for the rigid engine: EOTA₂₂₁ blocks down a plane, 1 000 rocks at Δt = 2 ms, whose mean
 //! (sd) energy, speed, rotation and jump height the paper reports.
 //!
-//! Given by the source (as the issue quotes it): a 40° ramp, the EOTA₂₂₁ block, 1 000 rocks,
-//! Δt = 2 ms. Everything else is ours, because the paper's text was not in reach:
+//! Given by the paper (§6, §6.1, table 2): a 40° ramp ("an idealized digital elevation model
+//! with an inclined slope of 40°" running out onto a flat area); the EOTA₂₂₁ block of 780 kg,
+//! "homogeneously distributed in a rigid body with dimensions of 0.93, 0.93, and 0.47 m along
+//! the three principal axes"; 1 000 simulations whose "initial rock orientation was the only
+//! varying input parameter"; Δt = 2 ms; the soil of Lu et al. 2019 (the same authors' scarring
+//! ground, reference [17]): here the `medium` ground class, their whole-trajectory set.
+//!
+//! Ours, because the paper does not give them:
 //!
 //! - **the ramp**: a plane of 40° over 100 m (horizontal) with 10 m above the release, then a
 //!   horizontal plane of 60 m; 80 m wide; 1 m grid (a plane is exact on any grid);
-//! - **the block**: 800 kg of concrete at 2 500 kg/m³ (0.32 m³). Caviezel et al. 2021 used
-//!   EOTA blocks of 45, 800 and 2 670 kg; the 800 kg block is the one whose mean speed and spin
-//!   the paper reports carry about the reported mean energy (½ m⟨v²⟩ + ½ Θ⟨ω²⟩ ≈ 200 kJ
-//!   against 188 kJ; 2 670 kg would give three times more). This is an inference from the
-//!   reported figures and weakens the energy comparison: it is said so wherever it is shown;
-//! - **the ground**: ε_N = ε_T = 0 with the slippage friction of Leine et al. 2014 (μ_min 0.2,
-//!   μ_max 1.3, β 20 s⁻¹, κ 0.7 m⁻¹), as on `forest-slope-40`;
+//! - **the block's size**: EOTA₂₂₁'s 2:2:1 shape scaled to 0.93 × 0.93 × 0.465 m (0.285 m³;
+//!   the paper's 0.47 is that rounded), at the density that makes 780 kg (2 738 kg/m³);
 //! - **the release**: at rest, the lowest vertex 2 m above the ground, a random orientation
-//!   per rock (a block laid on its face at rest would not start on a 40° plane with μ up to
-//!   1.3);
+//!   per rock;
 //! - **the statistics** (`rockfall validate`): over every trajectory row (every 0.05 s) of
 //!   every rock while its centre is above the ramp's 40° section, excluding the final row.
 use crate::SiteError;
@@ -30,10 +30,10 @@ use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
 pub const RAMP_DEG: f64 = 40.0;
 /// Horizontal length of the ramp below the release, m (ours).
 pub const RAMP_LENGTH_M: f64 = 100.0;
-/// Block mass, kg (ours, see the module documentation).
-pub const BLOCK_MASS_KG: f64 = 800.0;
-/// Concrete density, kg/m³ (ours).
-pub const DENSITY_KG_M3: f64 = 2500.0;
+/// Block mass, kg (Leine et al. 2021 §6).
+pub const BLOCK_MASS_KG: f64 = 780.0;
+/// The block's length along its two major axes, m (Leine et al. 2021 §6).
+pub const BLOCK_LENGTH_M: f64 = 0.93;
 /// Rocks of the published run.
 pub const ROCKS: u64 = 1000;
 
@@ -45,6 +45,13 @@ const WIDTH_M: f64 = 80.0;
 /// The y (m) of the foot of the ramp: rows above it are on the 40° section.
 pub fn foot_y_m() -> f64 {
     PLANE_M
+}
+
+/// Volume of the EOTA₂₂₁ block whose major axes are [`BLOCK_LENGTH_M`] long, m³: the
+/// named shape's volume (1 m³) times the cube of the length ratio.
+pub fn block_volume_m3() -> Option<f64> {
+    let dims = rockfall_scenario::rock::named_dims("eota221")?;
+    Some((BLOCK_LENGTH_M / dims[0]).powi(3))
 }
 
 /// Builds the site.
@@ -74,9 +81,9 @@ pub fn build() -> Result<Scenario, SiteError> {
     let dem = Dem::new(sample_dem(g, &profile, None))?;
     let soil = SoilType::new(4).ok_or(SiteError::Internal)?;
     let terrain = Terrain::new(dem, SurfaceMap::uniform(soil, 0.0, 0.0, 0.0))?;
-    let volume_m3 = BLOCK_MASS_KG / DENSITY_KG_M3;
-    let rock =
-        RockSpec::named("eota221", Some(volume_m3), DENSITY_KG_M3).ok_or(SiteError::Internal)?;
+    let volume_m3 = block_volume_m3().ok_or(SiteError::Internal)?;
+    let rock = RockSpec::named("eota221", Some(volume_m3), BLOCK_MASS_KG / volume_m3)
+        .ok_or(SiteError::Internal)?;
     let release = Release {
         points: vec![ReleasePoint::at_rest(
             WIDTH_M / 2.0,
@@ -87,7 +94,7 @@ pub fn build() -> Result<Scenario, SiteError> {
     };
     let mut scenario = Scenario::new("leine-ramp-40", terrain, rock, release);
     scenario.engine = Engine::Rigid;
-    scenario.contact = crate::forest_slope::leine_2014_contact();
+    scenario.contact = crate::forest_slope::scarring_contact();
     scenario.simulation.rocks_per_point = ROCKS;
     scenario.simulation.dt_s = 0.002;
     Ok(scenario)
@@ -111,7 +118,11 @@ mod tests {
         let expected_z = (release.y_m - foot_y_m()) * RAMP_DEG.to_radians().tan();
         assert!((dem.height_m(release.x_m, release.y_m).unwrap() - expected_z).abs() < 1e-6);
         assert_eq!(s.simulation.dt_s, 0.002);
-        assert_eq!(s.rock.volume_m3, Some(0.32));
+        let v = s.rock.volume_m3.unwrap();
+        assert!((v - 17.0 / 24.0 * 0.93 * 0.93 * 0.465).abs() < 2e-4, "{v}");
+        let rho = s.rock.density_kg_m3.at(0, 0).unwrap();
+        assert!((rho * v - 780.0).abs() < 1e-9, "{rho}");
+        assert_eq!(s.contact.model, rockfall_scenario::GroundModel::Scarring);
         s.validate().unwrap();
     }
 }

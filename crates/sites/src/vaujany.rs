@@ -372,6 +372,7 @@ fn build_rows(site: Site, nrows: usize, u: &Unknowns) -> Result<Scenario, SiteEr
             per_row(r_n, road)
         }),
         rolling_friction: None,
+        ground_class: None,
         rg70_m: per_row(rg[0], 0.0),
         rg20_m: per_row(rg[1], 0.02),
         rg10_m: per_row(rg[2], 0.05),

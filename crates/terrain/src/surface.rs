@@ -41,6 +41,10 @@ pub struct SurfaceMap {
     pub r_n: Option<Field>,
     /// Optional direct rolling friction tan φ (overrides the soil-type mapping), 0–5.
     pub rolling_friction: Option<Field>,
+    /// Optional ground class number 0–255 of the rigid engine's scarring ground
+    /// (`rockfall_scenario::ground`; 0: the scenario's default class); the lumped engine does
+    /// not read it.
+    pub ground_class: Option<Field>,
     /// Obstacle height of the 70 % cover class, m (`rg70`).
     pub rg70_m: Field,
     /// Obstacle height of the 20 % cover class, m (`rg20`).
@@ -56,6 +60,7 @@ impl SurfaceMap {
             soil_type: Field::Const(soil.class() as f64),
             r_n: None,
             rolling_friction: None,
+            ground_class: None,
             rg70_m: Field::Const(rg70_m),
             rg20_m: Field::Const(rg20_m),
             rg10_m: Field::Const(rg10_m),
@@ -75,6 +80,9 @@ impl SurfaceMap {
         }
         if let Some(m) = &self.rolling_friction {
             v.push(("rolling_friction", m));
+        }
+        if let Some(m) = &self.ground_class {
+            v.push(("ground_class", m));
         }
         v
     }
@@ -121,6 +129,11 @@ impl SurfaceMap {
             && let Some(bad) = m.find(|v| !(0.0..=5.0).contains(&v))
         {
             return Err(out("rolling_friction", bad, "0–5"));
+        }
+        if let Some(m) = &self.ground_class
+            && let Some(bad) = m.find(|v| !(v.fract() == 0.0 && (0.0..=255.0).contains(&v)))
+        {
+            return Err(out("ground_class", bad, "a whole number 0–255"));
         }
         Ok(())
     }

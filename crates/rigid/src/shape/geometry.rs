@@ -21,6 +21,8 @@ pub struct RockGeometry {
     pub vertices_m: Vec<V3>,
     /// Hull triangles, indices into `vertices_m`, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
+    /// The hull's edges (each pair of vertices that share a triangle, once), lower index first.
+    pub edges: Vec<[u32; 2]>,
     /// One plane per triangle: outward unit normal n and offset d (m); a point x is inside the
     /// hull when n·x ≤ d for every plane.
     pub planes: Vec<(V3, f64)>,
@@ -113,6 +115,7 @@ impl RockGeometry {
         });
         RockGeometry {
             graph: VertexGraph::new(&vertices_m, &triangles),
+            edges: edges_of(&triangles),
             vertices_m,
             triangles,
             planes,
@@ -173,6 +176,18 @@ impl RockGeometry {
     pub fn support(&self, dir: V3) -> V3 {
         self.vertices_m[self.graph.support_index(&self.vertices_m, dir)]
     }
+}
+
+/// The distinct edges of `triangles`, lower vertex index first, sorted.
+fn edges_of(triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
+    let mut edges: Vec<[u32; 2]> = triangles
+        .iter()
+        .flat_map(|&[a, b, c]| [[a, b], [b, c], [c, a]])
+        .map(|[a, b]| [a.min(b), a.max(b)])
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    edges
 }
 
 /// Checks that there are at least 4 finite points; returns the diagonal of their bounding box.

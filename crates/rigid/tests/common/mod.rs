@@ -115,6 +115,7 @@ pub fn params(body: &RockBody, ground: ContactParams) -> StepParams<'_> {
         ground,
         tree: law(0.6, 0.0, 0.0),
         slippage: None,
+        scar: None,
         linear_damping_per_s: 0.0,
         angular_damping_per_s: 0.0,
         solver: SolverSettings::default(),
