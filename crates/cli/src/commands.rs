@@ -74,6 +74,9 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             }
             // every override before the forest is built: a stand map is expanded from the seed
             let sim = load_simulation(&input, &overrides)?;
+            for n in sim.scenario().ignored_parameters() {
+                println!("ignored by the {} engine: {n}", sim.scenario().engine);
+            }
             let batched = sim.scenario().simulation.until_stable_pct.is_some();
             if let Some(tol) = sim.scenario().simulation.until_stable_pct {
                 print_caps(tol, &sim.scenario().simulation);

@@ -254,14 +254,30 @@ fn the_rigid_shape_case_checks_the_papers_findings() {
         s(&out),
     ]));
     let v = json(&out.join("validation.json"));
-    assert_eq!(v["cases"].as_array().unwrap().len(), 1);
+    // the scarring ground, and the hard ground before it as a case of its own
+    let names: Vec<&str> = (v["cases"].as_array().unwrap().iter())
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["forest-slope-40", "forest-slope-40-hard"]);
     let c = case(&v, "forest-slope-40");
+    assert!(c["notes"][0].as_str().unwrap().contains("scarring"), "{c}");
+    let hard = case(&v, "forest-slope-40-hard");
+    assert!(
+        hard["notes"][0].as_str().unwrap().contains("hard ground"),
+        "{hard}"
+    );
+    let hard_run = json(&out.join("forest-slope-40-hard/cubic1.2/summary.json"));
+    assert_eq!(hard_run["parameters"]["ground_model"], "hard");
     assert_eq!(c["engine"], "rigid");
     assert!(c["rmse_pct"].is_null());
     // 3 stand-ins, 3 rough classes, 2 EOTA blocks, 6 rows each
     assert_eq!(c["rows"].as_array().unwrap().len(), 48);
     let checks = c["checks"].as_array().unwrap();
-    assert_eq!(checks.len(), 7);
+    assert_eq!(checks.len(), 8);
+    assert!(
+        checks[7]["claim"].as_str().unwrap().contains("p95"),
+        "{checks:?}"
+    );
     let study = json(&out.join("forest-slope-40/study.json"));
     let farthest = study["ranking"]["farthest_runout_p95"].as_str().unwrap();
     assert!(
@@ -287,6 +303,7 @@ fn the_rigid_shape_case_checks_the_papers_findings() {
         dir.join("eota/eota221"),
     ] {
         let sum = json(&run.join("summary.json"));
+        assert_eq!(sum["parameters"]["ground_model"], "scarring");
         // two rocks per shape; the rough classes share them out over two members
         let rocks = if run.starts_with(dir.join("rough")) {
             1
@@ -391,7 +408,7 @@ fn the_lab_and_ramp_cases_compare_with_their_papers() {
         s(&out),
     ]));
     let v = json(&out.join("validation.json"));
-    assert_eq!(v["cases"].as_array().unwrap().len(), 2);
+    assert_eq!(v["cases"].as_array().unwrap().len(), 3);
     let lab = case(&v, "impact-lab");
     assert_eq!(lab["checks"].as_array().unwrap().len(), 7);
     let rows = lab["rows"].as_array().unwrap();
@@ -410,6 +427,18 @@ fn the_lab_and_ramp_cases_compare_with_their_papers() {
     let run = json(&out.join("leine-ramp-40/summary.json"));
     assert_eq!(run["rocks"], 6);
     assert!(run["motion"]["flight"].is_number());
+    // the paper's block on the scarring ground; the hard ground beside it
+    let p = &run["parameters"];
+    assert!(
+        (p["rock_mass_kg"].as_f64().unwrap() - 780.0).abs() < 1e-9,
+        "{p}"
+    );
+    assert_eq!(p["ground_model"], "scarring");
+    assert_eq!(p["scarring"]["default"]["name"], "medium");
+    let hard = case(&v, "leine-ramp-40-hard");
+    assert_eq!(hard["rows"].as_array().unwrap().len(), 8);
+    let hard_run = json(&out.join("leine-ramp-40-hard/summary.json"));
+    assert_eq!(hard_run["parameters"]["ground_model"], "hard");
 }
 
 /// The cross-validated cases: each Vaujany site reported with the free factors calibrated

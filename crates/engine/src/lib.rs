@@ -19,6 +19,7 @@
 //! Because a rock's stream is keyed by the rock and tallies merge by integer arithmetic,
 //! results are bit-identical whatever the thread count and whatever the split.
 
+pub mod nets;
 mod plan;
 mod pool;
 mod release;

@@ -8,6 +8,7 @@ use crate::trajectory::Rock;
 use crate::trees::{ImpactType, draw_deviation_deg, eccentricity, impact_loss_j};
 use crate::vec3::rotate_horizontal;
 use rand::RngExt;
+use rockfall_engine::nets::{NetEffect, net_effect};
 use rockfall_results::{Event, Outcome};
 
 impl Rock<'_, '_, '_> {
@@ -62,16 +63,18 @@ impl Rock<'_, '_, '_> {
     /// it. Speed and spin scale by √((E − E_net)/E), so the kinetic energy drops by E_net.
     pub(crate) fn net(&mut self, cell: usize) -> Option<Outcome> {
         let c = *self.world.ground.cell(cell);
-        let energy = self.energy_j(self.v);
-        if energy <= c.net_energy_j {
-            self.v = V3::ZERO;
-            self.w = V3::ZERO;
-            return Some(Outcome::NetStopped { cell });
+        match net_effect(self.energy_j(self.v), c.net_energy_j) {
+            NetEffect::Stopped => {
+                self.v = V3::ZERO;
+                self.w = V3::ZERO;
+                Some(Outcome::NetStopped { cell })
+            }
+            NetEffect::Passed { keep } => {
+                self.v *= keep;
+                self.w *= keep;
+                None
+            }
         }
-        let keep = ((energy - c.net_energy_j) / energy).sqrt();
-        self.v *= keep;
-        self.w *= keep;
-        None
     }
 
     /// Acts on what cut a segment with horizontal rate `rate` short; `None` while the rock

@@ -62,9 +62,9 @@ impl Rock<'_, '_, '_> {
                 let c = ground.cell(cell);
                 // a net acts once per passage through its cells (ours: a rasterised line is
                 // often two cells wide along a path), not on a rock released among them
-                let met = first || c.net_id == 0 || c.net_id == self.net_id;
-                self.net_entry(seg, piece.s_a, c.net_id, met);
-                if !met {
+                let new_passage = self.net_passage.enter(c.net_id, first);
+                self.net_entry(seg, piece.s_a, c.net_id, new_passage);
+                if new_passage {
                     let q = seg.pos(piece.s_a);
                     let zg = ground.height_m(q.x, q.y).unwrap_or(f64::NEG_INFINITY);
                     if q.z - zg < c.net_height_m {
@@ -79,14 +79,13 @@ impl Rock<'_, '_, '_> {
         None
     }
 
-    /// The rock enters a cell of net `net_id` (0: none) at `tau`; `met` when it is still in
-    /// the same passage through the net's cells (or was released there). The first cell of a
-    /// passage through the cells of a net that has a screen (`[nets] screens`) counts as a
-    /// crossing of that screen, at the entry point and before the net acts, whatever the
+    /// The rock enters a cell of net `net_id` (0: none) at `tau`; `new_passage` when it begins
+    /// a passage through the net's cells ([`rockfall_engine::nets::NetPassage`]). The first
+    /// cell of a passage through the cells of a net that has a screen (`[nets] screens`) counts
+    /// as a crossing of that screen, at the entry point and before the net acts, whatever the
     /// rock's height.
-    fn net_entry(&mut self, seg: &Seg, tau: f64, net_id: u32, met: bool) {
-        self.net_id = net_id;
-        if met {
+    fn net_entry(&mut self, seg: &Seg, tau: f64, net_id: u32, new_passage: bool) {
+        if !new_passage {
             return;
         }
         if let Some(k) = self.world.screens.net_screen(net_id) {

@@ -86,8 +86,8 @@ pub(crate) struct Rock<'w, 'a, 't> {
     pub(crate) visit: Option<(usize, CellVisit)>,
     pub(crate) last_rebound_cell: Option<usize>,
     pub(crate) last_stem: Option<usize>,
-    /// Id of the net whose cells the rock is in (0: none; see `Rock::net_entry`).
-    pub(crate) net_id: u32,
+    /// The net whose cells the rock is in (see `Rock::net_entry`).
+    pub(crate) net_passage: rockfall_engine::nets::NetPassage,
     pub(crate) max_v: f64,
     pub(crate) max_h: f64,
     pub(crate) impacts: u32,
@@ -135,7 +135,7 @@ pub fn simulate(
         visit: None,
         last_rebound_cell: None,
         last_stem: None,
-        net_id: 0,
+        net_passage: rockfall_engine::nets::NetPassage::default(),
         max_v: 0.0,
         max_h: 0.0,
         impacts: 0,

@@ -4,7 +4,9 @@
 //! the keys of the scenario file ([`LumpedSettings`], [`RigidParams`]); beside them, what the
 //! engine made of the scenario (rock body, stems) and the run's size.
 
-use rockfall_scenario::{ContactParams, LumpedSettings, RigidParams, Scenario, Slippage};
+use rockfall_scenario::{
+    ContactParams, GroundModel, LumpedSettings, RigidParams, ScarringSettings, Scenario, Slippage,
+};
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
@@ -124,6 +126,12 @@ pub struct RigidParameters {
     pub contact_tree: ContactParams,
     /// Slippage friction on the ground (`null` when off).
     pub slippage: Option<Slippage>,
+    /// The rock–ground law: `hard` or `scarring` (older summaries: `hard`).
+    #[serde(default)]
+    pub ground_model: GroundModel,
+    /// The scarring ground's default class and classes (`null` on the hard ground).
+    #[serde(default)]
+    pub scarring: Option<Box<ScarringSettings>>,
     /// Time step, s.
     pub dt_s: f64,
     /// Limits and numbers of rocks and stems.

@@ -141,7 +141,7 @@ const NEW_KEYS: [&str; 5] = [
 /// What the lumped parameters gained: the scale of the ground material's rolling friction.
 const NEW_LUMPED_PARAMETERS: [&str; 1] = ["soil_friction_scale"];
 
-const NEW_RIGID_PARAMETERS: [&str; 7] = [
+const NEW_RIGID_PARAMETERS: [&str; 9] = [
     "solver_alpha",
     "solver_tolerance_ms",
     "solver_max_iterations",
@@ -149,6 +149,8 @@ const NEW_RIGID_PARAMETERS: [&str; 7] = [
     "max_speed_ms",
     "linear_damping_per_s",
     "angular_damping_per_s",
+    "ground_model",
+    "scarring",
 ];
 
 #[test]

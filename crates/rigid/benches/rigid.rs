@@ -48,12 +48,15 @@ fn forest_slope(c: &mut Criterion) {
         let per = |n: u64| n as f64 / st.steps.max(1) as f64;
         eprintln!(
             "{label}: {ROCKS} rocks, {} steps ({:.0} per rock) in {wall_s:.2} s on one thread: \
-             {:.0} steps/s, {:.2} µs/step; {:.1} % of steps in contact, contacts per step \
+             {:.0} steps/s, {:.2} µs/step; {:.1} % of steps near the ground, {:.1} % in the \
+             scarring layer, {:.1} % in contact, contacts per step \
              {:.2} ground + {:.3} stem, {:.2} prox sweeps per contact step, {} capped",
             st.steps,
             st.steps as f64 / ROCKS as f64,
             st.steps as f64 / wall_s,
             1e6 * wall_s / st.steps.max(1) as f64,
+            100.0 * per(st.steps_near_ground),
+            100.0 * per(st.steps_in_scar),
             100.0 * per(st.steps_in_contact),
             per(st.ground_contacts),
             per(st.stem_contacts),

@@ -40,7 +40,7 @@ pub type FeatureKey = u64;
 
 /// Slack of the body-frame vertex filter, relative to the lengths involved (m per m): far above
 /// rounding, far below any gap that matters.
-const FILTER_TOLERANCE_M: f64 = 1e-9;
+pub const FILTER_TOLERANCE_M: f64 = 1e-9;
 
 /// High bit marking a DEM-node feature key.
 const NODE_BIT: u64 = 1 << 63;
@@ -99,6 +99,20 @@ impl Clearance {
     }
 }
 
+/// What the broad phase says of a rock near the ground.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Proximity {
+    /// The rock's bounding ball clears the ground; with a [`Clearance`] later steps may test
+    /// instead, when the wider bound clears too.
+    Clear(Option<Clearance>),
+    /// The rock may touch the ground: no point of the ground under it is higher than the
+    /// tangent plane at the centre by more than `excess_m`, m.
+    Near {
+        /// Largest height of a footprint node over the tangent plane at the centre, m.
+        excess_m: f64,
+    },
+}
+
 /// The terrain as the rigid engine sees it.
 #[derive(Debug, Clone)]
 pub struct Ground {
@@ -124,21 +138,17 @@ impl Ground {
     }
 
     /// Whether the rock `geom` with its centre of mass at `c` can touch the DEM surface
-    /// (`s_c` is the ground under `c`): `None` when it may, else `Some` of a [`Clearance`] that
-    /// later steps may test instead (or `Some(None)` when the wider bound does not clear).
-    /// It is the broad phase of [`Ground::contacts`].
-    pub fn clear_of(
-        &self,
-        geom: &RockGeometry,
-        c: V3,
-        s_c: &SurfacePoint,
-    ) -> Option<Option<Clearance>> {
+    /// (`s_c` is the ground under `c`): the broad phase of [`Ground::contacts`].
+    pub fn proximity(&self, geom: &RockGeometry, c: V3, s_c: &SurfacePoint) -> Proximity {
         let radius = geom.circumradius_m;
         let plane = |x: f64, y: f64| s_c.z_m + s_c.dzdx * (x - c.x) + s_c.dzdy * (y - c.y);
-        let excess = self.footprint_excess(c, radius, &plane);
+        let excess_m = self.footprint_excess(c, radius, &plane);
         let n_z = s_c.normal()[2];
-        ((c.z - plane(c.x, c.y) - excess) * n_z > radius)
-            .then(|| self.clearance(c, radius, s_c, n_z, &plane))
+        if (c.z - plane(c.x, c.y) - excess_m) * n_z > radius {
+            Proximity::Clear(self.clearance(c, radius, s_c, n_z, &plane))
+        } else {
+            Proximity::Near { excess_m }
+        }
     }
 
     /// Appends to `out` the contacts (gap ≤ 0) of the rock `geom` with its centre of mass at

@@ -15,6 +15,7 @@ pub mod solver;
 pub use math::{M3, Quat, V3};
 
 pub mod ground;
+pub mod immersion;
 pub mod rock;
 pub mod scar;
 pub mod stems;
@@ -22,6 +23,7 @@ pub mod step;
 
 use ground::{Ground, Under};
 use rock::{Launch, StopRule, World, simulate};
+use rockfall_engine::nets::NetMap;
 use rockfall_engine::{Engine, Origin, Release, Rock};
 use rockfall_forest::Forest;
 use rockfall_results::{ScreenSet, Tally};
@@ -112,6 +114,7 @@ pub struct RigidModel<'f> {
     stems: usize,
     body: RockBody,
     screens: ScreenSet,
+    nets: NetMap,
     scenario_dt_s: f64,
     max_time_s: f64,
     record_interval_s: f64,
@@ -149,6 +152,9 @@ impl<'f> RigidModel<'f> {
             stems: forest.map_or(0, Forest::len),
             body,
             screens: ScreenSet::new(&scenario.screens),
+            nets: (scenario.nets.as_ref())
+                .map(|n| NetMap::new(n, scenario.terrain.dem.geometry()))
+                .unwrap_or_default(),
             scenario_dt_s: scenario.simulation.dt_s,
             max_time_s: scenario.simulation.max_time_s,
             record_interval_s: scenario.output.trajectory_interval_s,
@@ -200,6 +206,7 @@ impl<'f> RigidModel<'f> {
             ground: &self.ground,
             stand: self.stand.as_ref(),
             screens: &self.screens,
+            nets: &self.nets,
             step: self.step_params(),
             stop: self.settings.stop,
             max_time_s: self.max_time_s,

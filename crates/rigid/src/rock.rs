@@ -17,6 +17,13 @@
 //! ground); screen crossings of the centre's path; a tree impact when a contact with a stem
 //! begins (stems do not break: seed 001's stems are rigid); a rebound when a ground contact
 //! begins after a step without one; every time step of recorded trajectories.
+//!
+//! **Nets.** When the centre enters a cell of a net on a new passage with its centre below
+//! the net's height above the ground, the net acts by the rule and the code the lumped engine
+//! uses ([`rockfall_engine::nets`]): a rock with no more kinetic energy than the capacity
+//! stops in it (`net_stopped`), any other goes on with speed and spin scaled so that its
+//! energy drops by the capacity. The first cell of a passage through a net that has a screen
+//! counts as a crossing of that screen, whatever the rock's height.
 
 use crate::ground::{Ground, Under};
 use crate::math::{Quat, V3};
@@ -25,6 +32,7 @@ use crate::shape::RockBody;
 use crate::stems::Stand;
 use crate::step::{RockState, StepParams, StepReport, StepScratch, step};
 use rand::RngExt;
+use rockfall_engine::nets::{NetEffect, NetMap, NetPassage, net_effect};
 use rockfall_results::{
     CellVisit, Event, Motion, Outcome, RockEnd, RockStart, ScreenCrossing, ScreenSet, Tally,
     TrajectoryRow,
@@ -60,6 +68,8 @@ pub struct World<'a> {
     pub stand: Option<&'a Stand<'a>>,
     /// Evaluation screens.
     pub screens: &'a ScreenSet,
+    /// The nets' cells (empty without nets).
+    pub nets: &'a NetMap,
     /// Step parameters.
     pub step: StepParams<'a>,
     /// Rest and failure.
@@ -137,6 +147,9 @@ struct Log<'t> {
     touching_ground: bool,
     /// Steps in each mode of motion, in the order of [`Motion::as_array`].
     motion_steps: [u32; 5],
+    /// The net passage of the centre, and the cell it was last in.
+    net: NetPassage,
+    net_cell: Option<usize>,
 }
 
 impl Log<'_> {
@@ -219,6 +232,8 @@ pub fn simulate(
         rebounds: 0,
         touching_ground: false,
         motion_steps: [0; 5],
+        net: NetPassage::default(),
+        net_cell: None,
     };
     let (outcome, time_s) = if z.is_none() {
         (Outcome::Failed, 0.0)
@@ -274,6 +289,9 @@ fn run(
             event = Event::Tree;
         }
         screens(world, body, before, state, log);
+        if let Some(cell) = nets(world, body, state, surface.z_m, log) {
+            return (Outcome::NetStopped { cell }, t);
+        }
         if at_rest(world, body, state, &report, &mut rest_s) {
             let cell = lattice.cell_index(state.r_m.x, state.r_m.y);
             return (
@@ -370,6 +388,64 @@ fn energies_j(body: &RockBody, state: &RockState) -> (f64, f64) {
         0.5 * body.mass_kg * state.v_ms.length_squared(),
         rotational_energy_j(state.w_body_rads, body.inertia_kgm2),
     )
+}
+
+/// The nets' rule ([`rockfall_engine::nets`]) when the centre has entered a new cell: a net
+/// screen crossing, and the net's effect on a rock below its height. Returns the cell of a
+/// net that stopped the rock; `ground_z_m` is the ground height under the centre.
+fn nets(
+    world: &World<'_>,
+    body: &RockBody,
+    state: &mut RockState,
+    ground_z_m: f64,
+    log: &mut Log<'_>,
+) -> Option<usize> {
+    if world.nets.is_empty() {
+        return None;
+    }
+    let cell = world
+        .ground
+        .lattice()
+        .cell_index(state.r_m.x, state.r_m.y)?;
+    if log.net_cell == Some(cell) {
+        return None;
+    }
+    let first = log.net_cell.is_none();
+    log.net_cell = Some(cell);
+    let net = world.nets.at(cell);
+    if !log.net.enter(net.map_or(0, |n| n.id), first) {
+        return None;
+    }
+    let net = net?;
+    let (e_t, e_r) = energies_j(body, state);
+    let height_m = state.r_m.z - ground_z_m;
+    if let Some(k) = world.screens.net_screen(net.id) {
+        log.tally.screen_crossing(
+            k,
+            ScreenCrossing {
+                velocity_ms: state.v_ms.length(),
+                energy_j: e_t + e_r,
+                jump_height_m: height_m,
+                x_m: state.r_m.x,
+                y_m: state.r_m.y,
+            },
+        );
+    }
+    if height_m >= net.height_m {
+        return None;
+    }
+    match net_effect(e_t + e_r, net.energy_j) {
+        NetEffect::Stopped => {
+            state.v_ms = V3::ZERO;
+            state.w_body_rads = V3::ZERO;
+            Some(cell)
+        }
+        NetEffect::Passed { keep } => {
+            state.v_ms *= keep;
+            state.w_body_rads *= keep;
+            None
+        }
+    }
 }
 
 /// Reports the crossings of the centre's path from `before` to the current position.

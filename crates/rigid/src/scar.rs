@@ -26,17 +26,15 @@
 //! - eq. 9 writes the drag with the penetration rate |ζ̇| of the vertical drop it was derived
 //!   on; with the frontal area perpendicular to the velocity (fig. 3) and the drag persisting
 //!   while the rock slides and rebounds (phases 2 and 3), we take the centre's speed |V|;
-//! - the immersed part is the hull cut by the DEM surface: the hull vertices below it and the
-//!   points where the hull's edges cross it (linear along each edge), projected and wrapped in
-//!   their convex hull; exact where the DEM is a plane under the rock;
+//! - the immersed part is the hull cut by the DEM surface, linearly along each edge
+//!   ([`crate::immersion`]); exact where the DEM is a plane under the rock;
 //! - the drag is integrated implicitly over a step, `V_E = V_B / (1 + k|V_B|Δt)` with
 //!   `k = ½ C_d ρ_Σ A_Γ / M`: the exact solution of `dV/dt = −k|V|V` at constant A_Γ. It never
 //!   reverses the velocity and never adds energy, at any step;
 //! - the ground class of an impact is that of the cell under the centre when it begins.
 
-use crate::ground::{Ground, GroundContact};
-use crate::math::{M3, V3, tangent_basis};
-use crate::shape::RockGeometry;
+use crate::ground::Ground;
+use crate::math::V3;
 use rockfall_raster::{Field, GridGeometry};
 use rockfall_scenario::{ScarringGround, ScarringSettings};
 
@@ -128,142 +126,6 @@ impl ScarMap {
     }
 }
 
-/// Buffers of the immersion analysis, reused from step to step.
-#[derive(Debug, Default, Clone)]
-pub struct ImmersionScratch {
-    /// Per hull vertex: its world position and how far it is below the DEM surface
-    /// (vertically, m; negative above, −∞ off the DEM).
-    vertices: Vec<(V3, f64, V3)>,
-    /// Immersed points projected onto the plane across the velocity.
-    projected: Vec<[f64; 2]>,
-    /// Convex hull of the projected points.
-    hull: Vec<[f64; 2]>,
-}
-
-impl ImmersionScratch {
-    /// How far the deepest hull vertex of the last analysis is below the DEM surface, m
-    /// (≤ 0 when none is).
-    pub fn deepest_m(&self) -> f64 {
-        self.vertices
-            .iter()
-            .map(|v| v.1)
-            .fold(f64::NEG_INFINITY, f64::max)
-    }
-}
-
-/// Analyses the rock `geom` with centre `c` and rotation `rot` against the DEM surface:
-/// fills `scratch` and returns how deep its deepest vertex is below the surface, m (≤ 0:
-/// not immersed).
-pub fn immersion(
-    ground: &Ground,
-    geom: &RockGeometry,
-    c: V3,
-    rot: &M3,
-    scratch: &mut ImmersionScratch,
-) -> f64 {
-    scratch.vertices.clear();
-    for v in &geom.vertices_m {
-        let p = c + *rot * *v;
-        let entry = match ground.lattice().surface(p.x, p.y) {
-            Some(s) => (p, s.z_m - p.z, V3::from_array(s.normal())),
-            None => (p, f64::NEG_INFINITY, V3::Z),
-        };
-        scratch.vertices.push(entry);
-    }
-    scratch.deepest_m()
-}
-
-/// Contacts of the analysed rock with the rebound plane at `depth_m` below the DEM surface:
-/// every hull vertex at least that deep, with the gap `(d − below)·n_z` along the surface
-/// normal, and the DEM nodes lowered by `depth_m` inside the hull.
-pub fn plane_contacts(
-    ground: &Ground,
-    geom: &RockGeometry,
-    c: V3,
-    rot: &M3,
-    depth_m: f64,
-    scratch: &ImmersionScratch,
-    out: &mut Vec<GroundContact>,
-) {
-    for (k, &(p, below, n)) in scratch.vertices.iter().enumerate() {
-        if below >= depth_m {
-            out.push(GroundContact {
-                point_m: p,
-                normal: n,
-                gap_m: (depth_m - below) * n.z,
-                key: k as u64,
-            });
-        }
-    }
-    ground.node_contacts_below(geom, c, rot, depth_m, out);
-}
-
-/// Frontal area A_Γ of the immersed part of the analysed rock across `direction` (a unit
-/// vector), m²; 0 when nothing is immersed.
-pub fn frontal_area_m2(geom: &RockGeometry, direction: V3, scratch: &mut ImmersionScratch) -> f64 {
-    let (t1, t2) = tangent_basis(direction);
-    let ImmersionScratch {
-        vertices,
-        projected,
-        hull,
-    } = scratch;
-    projected.clear();
-    let project = |p: V3| [t1.dot(p), t2.dot(p)];
-    for &(p, below, _) in vertices.iter() {
-        if below > 0.0 {
-            projected.push(project(p));
-        }
-    }
-    if projected.is_empty() {
-        return 0.0;
-    }
-    for &[i, j] in &geom.edges {
-        let (a, b) = (vertices[i as usize], vertices[j as usize]);
-        if (a.1 > 0.0) != (b.1 > 0.0) && a.1.is_finite() && b.1.is_finite() {
-            let t = a.1 / (a.1 - b.1);
-            projected.push(project(a.0 + (b.0 - a.0) * t));
-        }
-    }
-    convex_area_m2(projected, hull)
-}
-
-/// Area of the convex hull of `points` (Andrew's monotone chain), m²; `hull` is a buffer.
-fn convex_area_m2(points: &mut [[f64; 2]], hull: &mut Vec<[f64; 2]>) -> f64 {
-    if points.len() < 3 {
-        return 0.0;
-    }
-    points.sort_unstable_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
-        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-    };
-    hull.clear();
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
-            Box::new(points.iter())
-        } else {
-            Box::new(points.iter().rev())
-        };
-        for &p in iter {
-            while hull.len() >= start + 2
-                && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(p);
-        }
-        hull.pop();
-    }
-    let n = hull.len();
-    let twice: f64 = (0..n)
-        .map(|i| {
-            let (a, b) = (hull[i], hull[(i + 1) % n]);
-            a[0] * b[1] - b[0] * a[1]
-        })
-        .sum();
-    0.5 * twice.abs()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -298,24 +160,5 @@ mod tests {
         assert!((many.length() - want).abs() < 1e-9, "{}", many.length());
         assert!((one.normalize() - v0.normalize()).length() < 1e-12);
         assert_eq!(after_drag(v0, 0.0, 1.0), v0);
-    }
-
-    #[test]
-    fn convex_area_of_a_square_with_inner_points() {
-        let mut pts = vec![
-            [0.0, 0.0],
-            [2.0, 0.0],
-            [0.5, 0.5],
-            [2.0, 3.0],
-            [0.0, 3.0],
-            [1.0, 3.0],
-            [1.0, 1.0],
-        ];
-        let mut hull = Vec::new();
-        assert!((convex_area_m2(&mut pts, &mut hull) - 6.0).abs() < 1e-12);
-        assert_eq!(
-            convex_area_m2(&mut [[0.0, 0.0], [1.0, 1.0]], &mut hull),
-            0.0
-        );
     }
 }

@@ -28,10 +28,11 @@
 //! the free velocity of step 3 (`v_free = v_B/(1 + k|v_B|Δt) + g Δt`), and the slippage grows
 //! while a contact with the rebound plane carries force.
 
-use crate::ground::{Clearance, Ground, GroundContact, Under};
+use crate::ground::{Clearance, Ground, GroundContact, Proximity, Under};
+use crate::immersion::{self, ImmersionScratch};
 use crate::math::{M3, Quat, V3, finite};
 use crate::rotation::{free_rotation_step, inverse_inertia_world, rotate};
-use crate::scar::{self, ImmersionScratch, Scar, ScarMap};
+use crate::scar::{self, Scar, ScarMap};
 use crate::shape::RockBody;
 use crate::solver::{Contact, InverseMass, SolverSettings, Velocity, solve};
 use crate::stems::{Stand, StemContact};
@@ -119,6 +120,10 @@ pub struct StepStats {
     pub steps: u64,
     /// Steps with at least one contact.
     pub steps_in_contact: u64,
+    /// Steps in which the broad phase did not clear the rock of the ground.
+    pub steps_near_ground: u64,
+    /// Steps in the scarring layer (scarring ground).
+    pub steps_in_scar: u64,
     /// Ground contacts, summed over steps.
     pub ground_contacts: u64,
     /// Stem contacts, summed over steps.
@@ -134,6 +139,8 @@ impl StepStats {
     pub fn add(&mut self, other: &StepStats) {
         self.steps += other.steps;
         self.steps_in_contact += other.steps_in_contact;
+        self.steps_near_ground += other.steps_near_ground;
+        self.steps_in_scar += other.steps_in_scar;
         self.ground_contacts += other.ground_contacts;
         self.stem_contacts += other.stem_contacts;
         self.iterations += other.iterations;
@@ -267,6 +274,8 @@ pub fn step(
     let st = &mut scratch.stats;
     st.steps += 1;
     st.steps_in_contact += u64::from(!scratch.contacts.is_empty());
+    st.steps_near_ground += u64::from(near);
+    st.steps_in_scar += u64::from(scratch.in_scar);
     st.ground_contacts += scratch.ground.len() as u64;
     st.stem_contacts += scratch.stems.len() as u64;
     st.iterations += u64::from(iterations);
@@ -303,13 +312,16 @@ fn scar_contacts(
     scratch: &mut StepScratch,
 ) -> f64 {
     let geom = &p.body.geometry;
-    if let Some(clearance) = ground.clear_of(geom, r_m, s) {
-        scratch.clearance = clearance;
-        scratch.in_scar = false;
-        return 0.0;
-    }
+    let excess_m = match ground.proximity(geom, r_m, s) {
+        Proximity::Clear(clearance) => {
+            scratch.clearance = clearance;
+            scratch.in_scar = false;
+            return 0.0;
+        }
+        Proximity::Near { excess_m } => excess_m,
+    };
     scratch.clearance = None;
-    if scar::immersion(ground, geom, r_m, rot, &mut scratch.immersion) <= 0.0 {
+    if !immersion::immersion(ground, geom, r_m, rot, s, excess_m, &mut scratch.immersion) {
         scratch.in_scar = false;
         return 0.0;
     }
@@ -325,18 +337,10 @@ fn scar_contacts(
         return 0.0;
     };
     let immersion = &mut scratch.immersion;
-    scar::plane_contacts(
-        ground,
-        geom,
-        r_m,
-        rot,
-        impact.depth_m,
-        immersion,
-        &mut scratch.ground,
-    );
+    immersion::plane_contacts(ground, geom, impact.depth_m, immersion, &mut scratch.ground);
     let speed = state.v_ms.length();
     if speed > 0.0 {
-        let area = scar::frontal_area_m2(geom, state.v_ms / speed, immersion);
+        let area = immersion::frontal_area_m2(ground, geom, state.v_ms / speed, immersion);
         scar::drag_rate_per_m(&impact.ground, area, p.body.mass_kg)
     } else {
         0.0

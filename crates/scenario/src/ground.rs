@@ -8,6 +8,8 @@
 //!   scarring layer over a hard rebound plane. The parameters of a ground class are those of
 //!   [`ScarringGround`]; a per-cell map of class numbers selects one per impact.
 
+use crate::ScenarioError;
+use rockfall_raster::Field;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
@@ -228,5 +230,42 @@ impl ScarringSettings {
     /// The class numbered `id`.
     pub fn class(&self, id: u8) -> Option<&GroundClass> {
         self.classes.iter().find(|c| c.id == id)
+    }
+}
+
+impl ScarringSettings {
+    /// Checks every class's parameters and that every cell of the `ground_class` map `map`
+    /// names a class (0: the default one); errors name the key, or the cell.
+    pub fn check(&self, map: Option<&Field>) -> Result<(), ScenarioError> {
+        let classes = std::iter::once(("contact.ground".to_string(), &self.default)).chain(
+            (self.classes.iter())
+                .map(|c| (format!("contact.ground_class {} ({})", c.id, c.name), c)),
+        );
+        for (key, class) in classes {
+            if let Some((k, v, want)) = class.params.out_of_range() {
+                return Err(ScenarioError::OutOfRange {
+                    parameter: format!("{key}.{k}"),
+                    cell: None,
+                    value: v,
+                    expected: want.into(),
+                });
+            }
+        }
+        let Some(map) = map else { return Ok(()) };
+        let known = |v: f64| v == 0.0 || self.classes.iter().any(|c| f64::from(c.id) == v);
+        if let Some((row, col, value)) = map.find(|v| !known(v)) {
+            let ids: Vec<String> = self.classes.iter().map(|c| c.id.to_string()).collect();
+            return Err(ScenarioError::OutOfRange {
+                parameter: "terrain.ground_class".into(),
+                cell: Some((row, col)),
+                value,
+                expected: format!(
+                    "0 (the default class) or a defined class: {} ([[contact.ground_class]] \
+                     defines more)",
+                    ids.join(", ")
+                ),
+            });
+        }
+        Ok(())
     }
 }

@@ -15,6 +15,7 @@
 
 mod error;
 pub mod ground;
+mod ignored;
 mod params;
 mod release;
 pub mod rock;

@@ -27,6 +27,10 @@ pub struct Overview {
     pub fields: Vec<FieldRange>,
     /// Notes from reading.
     pub notes: Vec<String>,
+    /// The engine.
+    pub engine: crate::Engine,
+    /// The parameters the engine ignores ([`Scenario::ignored_parameters`]).
+    pub ignored: Vec<String>,
 }
 
 impl Overview {
@@ -110,6 +114,8 @@ impl Overview {
             items,
             fields: field_ranges(scenario),
             notes: scenario.notes.clone(),
+            engine: scenario.engine,
+            ignored: scenario.ignored_parameters(),
         }
     }
 }
@@ -260,6 +266,9 @@ fn field_ranges(s: &Scenario) -> Vec<FieldRange> {
     if let Some(m) = &t.rolling_friction {
         push("rolling_friction", "-", m);
     }
+    if let Some(m) = &t.ground_class {
+        push("ground_class", "class", m);
+    }
     push("rg70", "m", &t.rg70_m);
     push("rg20", "m", &t.rg20_m);
     push("rg10", "m", &t.rg10_m);
@@ -311,6 +320,9 @@ impl fmt::Display for Overview {
         }
         for n in &self.notes {
             writeln!(f, "note: {n}")?;
+        }
+        for n in &self.ignored {
+            writeln!(f, "ignored by the {} engine: {n}", self.engine)?;
         }
         Ok(())
     }

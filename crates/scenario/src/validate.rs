@@ -421,6 +421,10 @@ impl Scenario {
                 }
             }
         }
+        if c.model == crate::GroundModel::Scarring {
+            c.scarring
+                .check(self.terrain.surface.ground_class.as_ref())?;
+        }
         if let Some(sl) = c.slippage {
             let ok = sl.mu_min >= 0.0
                 && sl.mu_max >= sl.mu_min

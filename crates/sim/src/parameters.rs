@@ -6,7 +6,7 @@ use rockfall_engine::Plan;
 use rockfall_lumped::LumpedModel;
 use rockfall_results::{LegacySolver, LumpedParameters, RigidParameters, RunSize};
 use rockfall_rigid::RigidModel;
-use rockfall_scenario::Scenario;
+use rockfall_scenario::{GroundModel, Scenario};
 
 /// The parameters of a lumped run of `scenario`; the rock is the first release's.
 pub fn lumped(scenario: &Scenario, plan: &Plan<LumpedModel<'_>>) -> LumpedParameters {
@@ -36,6 +36,9 @@ pub fn rigid(scenario: &Scenario, model: &RigidModel<'_>) -> RigidParameters {
         contact_ground: scenario.contact.ground,
         contact_tree: scenario.contact.tree,
         slippage: scenario.contact.slippage,
+        ground_model: scenario.contact.model,
+        scarring: (scenario.contact.model == GroundModel::Scarring)
+            .then(|| Box::new(scenario.contact.scarring.clone())),
         dt_s: scenario.simulation.dt_s,
         size: RunSize::of(scenario, model.stems()),
         settings: scenario.rigid,

@@ -114,9 +114,19 @@ pub fn run_validation(
             }
         } else if name == crate::ramp::NAME {
             // the paper's 1 000 rocks by default: twice the rocks of a shape
-            cases.push(crate::ramp::ramp_case(v, 2 * v.shape_rocks, out, observer)?);
+            for law in [GroundLaw::Scarring, GroundLaw::Hard] {
+                cases.push(crate::ramp::ramp_case(
+                    v,
+                    2 * v.shape_rocks,
+                    law,
+                    out,
+                    observer,
+                )?);
+            }
             meta.settings.push(format!(
-                "rigid: built-in {name}, 800 kg eota221, dt 2 ms, {} rocks (our reconstruction)",
+                "rigid: built-in {name}, 780 kg eota221 of 0.93 × 0.93 × 0.465 m, dt 2 ms, {} \
+                 rocks, on the scarring ground (medium class) and on the hard ground of Leine \
+                 et al. 2014",
                 2 * v.shape_rocks
             ));
         } else if name == crate::crossval::NAME {
@@ -134,9 +144,12 @@ pub fn run_validation(
                 crate::crossval::CALIBRATION_ROCKS.min(v.site_rocks)
             ));
         } else if name == "forest-slope-40" {
-            cases.push(shape_study_case(name, v, out, observer)?);
+            for law in [GroundLaw::Scarring, GroundLaw::Hard] {
+                cases.push(shape_study_case(name, law, v, out, observer)?);
+            }
             meta.settings.push(format!(
-                "rigid: built-in {name}, the scenario's contact laws; shapes {}; rough \
+                "rigid: built-in {name} on the scarring ground (medium class) and, in \
+                 `{name}-hard`, on the hard ground of Leine et al. 2014; shapes {}; rough \
                  classes {} of {} members each; EOTA blocks {}",
                 SHAPES.join(", "),
                 ROUGH_CLASSES.join(", "),
@@ -284,6 +297,7 @@ fn lumped_settings(l: &LumpedSettings) -> String {
 /// the paper's findings.
 fn shape_study_case(
     name: &str,
+    law: GroundLaw,
     v: &Validate,
     out: &Path,
     observer: &dyn Observer,
@@ -292,7 +306,10 @@ fn shape_study_case(
         seed: Some(v.seed),
         ..Overrides::default()
     };
-    let (base, forest) = Simulation::new(rockfall_sites::build(name)?, &overrides)?.into_parts();
+    let mut scenario = rockfall_sites::build(name)?;
+    scenario.contact = law.contact();
+    let (base, forest) = Simulation::new(scenario, &overrides)?.into_parts();
+    let name = &law.case_name(name);
     let study = |shapes: Vec<StudyShape>, rocks: u64, dir: PathBuf| {
         let study = ShapeStudy {
             shapes,
@@ -326,7 +343,49 @@ fn shape_study_case(
             dir.join("eota"),
         )?,
     };
-    Ok(shape_case(name, &studies, v.shape_rocks))
+    Ok(shape_case(name, law.describe(), &studies, v.shape_rocks))
+}
+
+/// The ground law a rigid case runs on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GroundLaw {
+    /// The scarring ground of Lu et al. 2019, `medium` class (the built-in sites' own).
+    Scarring,
+    /// The hard ground with the slippage friction of Leine et al. 2014 (the law before).
+    Hard,
+}
+
+impl GroundLaw {
+    /// Its contact settings (seed 001's stems with μ 0.1).
+    pub fn contact(self) -> rockfall_scenario::ContactSettings {
+        match self {
+            GroundLaw::Scarring => rockfall_sites::forest_slope::scarring_contact(),
+            GroundLaw::Hard => rockfall_sites::forest_slope::leine_2014_contact(),
+        }
+    }
+
+    /// The case name for the site `site`: the site's own on the scarring ground, `<site>-hard`
+    /// on the hard one.
+    pub fn case_name(self, site: &str) -> String {
+        match self {
+            GroundLaw::Scarring => site.to_string(),
+            GroundLaw::Hard => format!("{site}-hard"),
+        }
+    }
+
+    /// In words, for the reports.
+    pub fn describe(self) -> &'static str {
+        match self {
+            GroundLaw::Scarring => {
+                "the scarring ground of Lu et al. 2019 (medium class: M_e 15 MN/m², C_s 1.5, \
+                 C_f 1, ρ 1700 kg/m³, μ 0.55–2.0, β 185 s⁻¹, κ 3 m⁻¹)"
+            }
+            GroundLaw::Hard => {
+                "the hard ground of Leine et al. 2014 (ε = 0, slippage friction μ 0.2–1.3, β \
+                 20 s⁻¹, κ 0.7 m⁻¹), the law before the scarring ground"
+            }
+        }
+    }
 }
 
 /// Writes the run of `sim` into `dir` as `rockfall run` writes a run (rasters, tables,

@@ -177,9 +177,26 @@ fn eota_check(eota: &[SlopeStats]) -> Option<Check> {
     })
 }
 
+/// The same finding on the p95 run-out along the fall line (issue 29's measure): EOTA₂₂₁'s is
+/// at least EOTA₁₁₁'s.
+fn eota_p95_check(eota: &[SlopeStats]) -> Option<Check> {
+    let get = |l: &str| eota.iter().find(|s| s.label == l);
+    let p95 = |s: &SlopeStats| s.estimates.map(|e| e.runout_p95_m);
+    let (c, w) = (p95(get("eota111")?)?, p95(get("eota221")?)?);
+    Some(Check {
+        claim: "EOTA₂₂₁'s p95 run-out is at least EOTA₁₁₁'s (same mass)".into(),
+        paper: "eota221 (Caviezel et al. 2021, Chant Sura)".into(),
+        simulated: format!(
+            "eota221 {:.0} m [{:.0}–{:.0}], eota111 {:.0} m [{:.0}–{:.0}]",
+            w.value, w.ci95[0], w.ci95[1], c.value, c.ci95[0], c.ci95[1]
+        ),
+        holds: w.value >= c.value,
+    })
+}
+
 /// The case of the shape studies: per shape or class its run-out, spread, outcomes and modes
 /// of motion (no observed values), and the papers' findings checked against them.
-pub fn shape_case(name: &str, studies: &ShapeStudies, rocks: u64) -> CaseReport {
+pub fn shape_case(name: &str, ground: &str, studies: &ShapeStudies, rocks: u64) -> CaseReport {
     let all = (studies.stand_ins.iter())
         .chain(&studies.rough)
         .chain(&studies.eota);
@@ -187,6 +204,7 @@ pub fn shape_case(name: &str, studies: &ShapeStudies, rocks: u64) -> CaseReport 
     let mut checks = fig6_checks(&studies.stand_ins, "stand-ins");
     checks.extend(fig6_checks(&studies.rough, "rough ensembles"));
     checks.extend(eota_check(&studies.eota));
+    checks.extend(eota_p95_check(&studies.eota));
     CaseReport {
         name: name.to_string(),
         title: "Forest slope of 40°, run-out and spread per rock shape".to_string(),
@@ -201,6 +219,7 @@ pub fn shape_case(name: &str, studies: &ShapeStudies, rocks: u64) -> CaseReport 
         groups: Vec::new(),
         checks,
         notes: vec![
+            format!("ground: {ground}"),
             "stand-ins: smooth 100-point hulls of seed 001's dimensions, not its scanned rocks"
                 .to_string(),
             format!(
@@ -269,7 +288,7 @@ mod tests {
             ],
             ..ShapeStudies::default()
         };
-        let c = shape_case("forest-slope-40", &studies, 10);
+        let c = shape_case("forest-slope-40", "test ground", &studies, 10);
         assert_eq!(c.checks.len(), 3);
         assert!(c.checks.iter().all(|c| c.holds), "{:?}", c.checks);
         assert!(c.checks[0].simulated.contains("clear"), "{:?}", c.checks[0]);
@@ -299,9 +318,9 @@ mod tests {
             ],
             ..ShapeStudies::default()
         };
-        let c = shape_case("forest-slope-40", &studies, 10);
+        let c = shape_case("forest-slope-40", "test ground", &studies, 10);
         let holds: Vec<bool> = c.checks.iter().map(|c| c.holds).collect();
-        assert_eq!(holds, [false, false, false, true]);
+        assert_eq!(holds, [false, false, false, true, true]);
         assert_eq!(
             c.checks[0].simulated,
             "rough-cubic1.2 (95 % intervals overlap)"
@@ -315,13 +334,35 @@ mod tests {
             ],
             ..ShapeStudies::default()
         };
-        let c = shape_case("forest-slope-40", &studies, 10);
-        assert_eq!(c.checks.len(), 1);
+        let c = shape_case("forest-slope-40", "test ground", &studies, 10);
+        assert_eq!(c.checks.len(), 2);
         assert!(
             !c.checks[0].holds && c.checks[0].simulated.contains("overlap"),
             "{:?}",
             c.checks[0]
         );
+        // the p95 finding holds when EOTA₂₂₁'s p95 is at least EOTA₁₁₁'s, whatever the
+        // intervals, and not when it is shorter
+        assert!(
+            c.checks[1].holds && c.checks[1].claim.contains("p95"),
+            "{:?}",
+            c.checks[1]
+        );
+        assert!(
+            c.checks[1].simulated.starts_with("eota221 330 m"),
+            "{:?}",
+            c.checks[1]
+        );
+        let studies = ShapeStudies {
+            eota: vec![
+                stats("eota111", 300.0, 100.0, 5.0),
+                stats("eota221", 299.0, 100.0, 5.0),
+            ],
+            ..ShapeStudies::default()
+        };
+        let c = shape_case("forest-slope-40", "test ground", &studies, 10);
+        assert!(!c.checks[1].holds, "{:?}", c.checks[1]);
+        assert_eq!(c.notes[0], "ground: test ground");
         assert_eq!(class_of("rough-long2.2"), "long");
         assert_eq!(rough_members(3), 3);
         assert_eq!(rough_members(500), 10);

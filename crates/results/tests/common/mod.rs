@@ -217,6 +217,8 @@ pub fn rigid_parameters(dt_s: f64) -> Parameters {
             beta_per_s: 20.0,
             kappa_per_m: 0.7,
         }),
+        ground_model: Default::default(),
+        scarring: None,
         dt_s,
         size: size(),
         settings,

@@ -21,8 +21,6 @@ pub struct RockGeometry {
     pub vertices_m: Vec<V3>,
     /// Hull triangles, indices into `vertices_m`, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
-    /// The hull's edges (each pair of vertices that share a triangle, once), lower index first.
-    pub edges: Vec<[u32; 2]>,
     /// One plane per triangle: outward unit normal n and offset d (m); a point x is inside the
     /// hull when n·x ≤ d for every plane.
     pub planes: Vec<(V3, f64)>,
@@ -43,6 +41,9 @@ pub struct RockGeometry {
     pub centroid_m: V3,
     /// Vertex neighbours, for the support function.
     pub graph: VertexGraph,
+    /// The triangles at each vertex, in compressed rows: those of vertex v are
+    /// `vertex_triangles.1[vertex_triangles.0[v]..vertex_triangles.0[v + 1]]`.
+    pub vertex_triangles: (Vec<u32>, Vec<u32>),
 }
 
 impl RockGeometry {
@@ -115,7 +116,7 @@ impl RockGeometry {
         });
         RockGeometry {
             graph: VertexGraph::new(&vertices_m, &triangles),
-            edges: edges_of(&triangles),
+            vertex_triangles: triangles_at_vertices(vertices_m.len(), &triangles),
             vertices_m,
             triangles,
             planes,
@@ -178,16 +179,35 @@ impl RockGeometry {
     }
 }
 
-/// The distinct edges of `triangles`, lower vertex index first, sorted.
-fn edges_of(triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
-    let mut edges: Vec<[u32; 2]> = triangles
-        .iter()
-        .flat_map(|&[a, b, c]| [[a, b], [b, c], [c, a]])
-        .map(|[a, b]| [a.min(b), a.max(b)])
-        .collect();
-    edges.sort_unstable();
-    edges.dedup();
-    edges
+/// The triangles at each of `n` vertices, in compressed rows (see
+/// [`RockGeometry::vertex_triangles`]).
+fn triangles_at_vertices(n: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; n + 1];
+    for t in triangles {
+        for &v in t {
+            start[v as usize + 1] += 1;
+        }
+    }
+    for v in 0..n {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut list = vec![0u32; 3 * triangles.len()];
+    for (k, t) in triangles.iter().enumerate() {
+        for &v in t {
+            list[fill[v as usize] as usize] = k as u32;
+            fill[v as usize] += 1;
+        }
+    }
+    (start, list)
+}
+
+impl RockGeometry {
+    /// The triangles at vertex `v`.
+    pub fn triangles_at(&self, v: usize) -> &[u32] {
+        let (start, list) = &self.vertex_triangles;
+        &list[start[v] as usize..start[v + 1] as usize]
+    }
 }
 
 /// Checks that there are at least 4 finite points; returns the diagonal of their bounding box.
