@@ -165,6 +165,12 @@ fn rigid_engine_runs_forest_slope_40_end_to_end_and_validates_its_input() {
         "2",
     ]));
     assert!(run.contains("2 rocks"), "{run}");
+    // the site runs on the scarring ground, and the run names what the rigid engine ignores
+    assert!(
+        run.contains("ignored by the rigid engine: soiltype, rg70, rg20, rg10")
+            && run.contains("ignored by the rigid engine: contact.ground.mu"),
+        "{run}"
+    );
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.path().join("summary.json")).unwrap())
             .unwrap();
@@ -222,6 +228,11 @@ fn rigid_engine_runs_forest_slope_40_end_to_end_and_validates_its_input() {
         check.contains("convex hull of 100 vertices") && check.contains("(cubic)"),
         "{check}"
     );
+    assert!(
+        check.contains("ignored by the rigid engine: soiltype, rg70, rg20, rg10"),
+        "{check}"
+    );
+    assert_eq!(summary["parameters"]["ground_model"], "scarring");
     // a rock file whose points are coplanar has no volume: bad input naming the file
     std::fs::write(dir.join("flat.xyz"), "0 0 0\n1 0 0\n0 1 0\n1 1 0\n").unwrap();
     let text = std::fs::read_to_string(&scenario).unwrap();

@@ -164,6 +164,38 @@ fn softer_soil_scars_deeper_and_no_drag_means_free_fall() {
     assert!((v_plane - want).abs() < 0.02, "{v_plane} vs {want}");
 }
 
+/// Ground classes per cell: on a map of class 3 (M_e 10 MN/m²) west of x = 0 and class 5
+/// (20 MN/m²) east of it, the same drop scars deeper on the west by (10/20)^(−0.4), the class
+/// of the cell under the centre at impact; unknown class numbers are refused.
+#[test]
+fn each_cell_scars_by_its_class() {
+    use rockfall_raster::{Field, Grid};
+    let body = box_body([0.5; 3]);
+    let terrain = flat(5.0);
+    let g = *terrain.lattice().geometry();
+    let classes = Grid::from_fn(g, |r, c| {
+        Some(if g.cell_center(r, c).0 < 0.0 { 3.0 } else { 5.0 })
+    });
+    let settings = ScarringSettings::default();
+    let field = Field::Grid(classes);
+    let map = ScarMap::new(&settings, Some(&field), &g).unwrap();
+    let p = scar_params(&body, &map);
+    let depth_at = |x: f64| {
+        let mut s = at_rest(V3::new(x, 0.2, 1.25), input_pose(&body));
+        let mut depth = 0.0;
+        energy_excess_j(&body, &mut s, &p, &terrain, 600, |_, scratch| {
+            if let Some(scar) = scratch.scar {
+                depth = scar.depth_m;
+            }
+        });
+        depth
+    };
+    let (west, east) = (depth_at(-2.3), depth_at(2.3));
+    assert!((west / east - 0.5f64.powf(-0.4)).abs() < 1e-9, "{west} {east}");
+    let bad = Field::Grid(Grid::filled(g, 9.0));
+    assert_eq!(ScarMap::new(&settings, Some(&bad), &g).unwrap_err(), 9);
+}
+
 /// A box sliding down 30° at 5 m/s in its scar: the slippage friction (μ 0.55 → 2) and the
 /// drag stop it within 2 s, and the energy never grows.
 #[test]
