@@ -1,7 +1,8 @@
 //! Scenario keys a calibration may move, by their scenario-file path.
 //!
 //! - the engine settings, by their serialised keys: `lumped.*`, `rigid.*`,
-//!   `contact.ground.*`, `contact.tree.*`, `contact.slippage.*` (when the scenario has one);
+//!   `contact.ground.*` (the hard law's and the scarring ground's default class: `me_mn_m2`,
+//!   `c_s`, …), `contact.tree.*`, `contact.slippage.*` (when the scenario has one);
 //! - per-cell keys, a constant (`range` or `scale`) or a map (`scale` only):
 //!   `terrain.rg70_m`, `terrain.rg20_m`, `terrain.rg10_m`, `terrain.r_n`,
 //!   `terrain.rolling_friction`, `rock.density_kg_m3`; and `terrain.rg_m`, ours: the three
@@ -55,11 +56,46 @@ fn section(s: &Scenario, name: &str) -> Option<serde_json::Value> {
     match name {
         "lumped" => serde_json::to_value(&s.lumped).ok(),
         "rigid" => serde_json::to_value(s.rigid).ok(),
-        "contact.ground" => serde_json::to_value(c.ground).ok(),
+        "contact.ground" => ground_section(s),
         "contact.tree" => serde_json::to_value(c.tree).ok(),
         "contact.slippage" => c.slippage.and_then(|x| serde_json::to_value(x).ok()),
         _ => None,
     }
+}
+
+/// `[contact.ground]` as the file gives it: the hard law's μ, ε and the scarring ground's
+/// default class parameters (`me_mn_m2`, `c_s`, …).
+fn ground_section(s: &Scenario) -> Option<serde_json::Value> {
+    let mut v = serde_json::to_value(s.contact.ground).ok()?;
+    let scarring = serde_json::to_value(s.contact.scarring.default.params).ok()?;
+    if let (Some(m), serde_json::Value::Object(extra)) = (v.as_object_mut(), scarring) {
+        m.extend(extra);
+    }
+    Some(v)
+}
+
+/// Sets `[contact.ground]` from the object of [`ground_section`].
+fn set_ground_section(s: &mut Scenario, v: serde_json::Value) -> Result<(), serde_json::Error> {
+    let pick = |keys: &[&str]| -> serde_json::Value {
+        let m = v.as_object().cloned().unwrap_or_default();
+        serde_json::Value::Object(
+            m.into_iter()
+                .filter(|(k, _)| keys.contains(&k.as_str()))
+                .collect(),
+        )
+    };
+    s.contact.ground = serde_json::from_value(pick(&["mu", "eps_n", "eps_t"]))?;
+    s.contact.scarring.default.params = serde_json::from_value(pick(&[
+        "me_mn_m2",
+        "c_s",
+        "c_f",
+        "rho_kg_m3",
+        "mu_min",
+        "mu_max",
+        "beta_per_s",
+        "kappa_per_m",
+    ]))?;
+    Ok(())
 }
 
 fn set_section(s: &mut Scenario, name: &str, v: serde_json::Value) -> Result<(), String> {
@@ -67,7 +103,7 @@ fn set_section(s: &mut Scenario, name: &str, v: serde_json::Value) -> Result<(),
     match name {
         "lumped" => s.lumped = serde_json::from_value(v).map_err(err)?,
         "rigid" => s.rigid = serde_json::from_value(v).map_err(err)?,
-        "contact.ground" => s.contact.ground = serde_json::from_value(v).map_err(err)?,
+        "contact.ground" => set_ground_section(s, v).map_err(err)?,
         "contact.tree" => s.contact.tree = serde_json::from_value(v).map_err(err)?,
         "contact.slippage" => s.contact.slippage = Some(serde_json::from_value(v).map_err(err)?),
         _ => return Err(format!("no section {name}")),

@@ -66,6 +66,18 @@ fn values_and_scales_of_settings_maps_and_the_release() {
     assert_eq!(s.lumped.rn_velocity_scale_ms, 2.0 * 9.144);
     apply(&mut s, &base, &p("contact.ground.mu", Mode::Value), 0.7).unwrap();
     assert_eq!(s.contact.ground.mu, 0.7);
+    // the scarring ground's default class under [contact.ground], the hard law's keys kept
+    apply(
+        &mut s,
+        &base,
+        &p("contact.ground.me_mn_m2", Mode::Scale),
+        2.0,
+    )
+    .unwrap();
+    apply(&mut s, &base, &p("contact.ground.c_s", Mode::Value), 2.5).unwrap();
+    let d = &s.contact.scarring.default.params;
+    assert_eq!((d.me_mn_m2, d.c_s, d.kappa_per_m), (30.0, 2.5, 3.0));
+    assert_eq!(s.contact.ground.mu, 0.7);
     // terrain.rg_m scales the three obstacle-height maps together, constants and rasters
     apply(&mut s, &base, &p("terrain.rg_m", Mode::Scale), 2.0).unwrap();
     let t = &s.terrain.surface;

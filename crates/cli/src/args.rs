@@ -260,7 +260,10 @@ pub enum Command {
     /// `forest-slope-40` (seed 001 §3.4: run-out and spread of its three rock shapes, of rough
     /// ensembles of their classes and of the EOTA blocks on the rigid engine, seed 001's and
     /// Caviezel et al. 2021's findings checked); and `leine-ramp-40` (Leine et al. 2021:
-    /// EOTA221 down a 40° ramp, mean and sd of energy, speed, rotation and jump height).
+    /// EOTA221 of 780 kg down a 40° ramp, mean and sd of energy, speed, rotation and jump
+    /// height). The two rigid cases run on the scarring ground of Lu et al. 2019 (the sites'
+    /// own) and again on the hard ground of Leine et al. 2014 as `forest-slope-40-hard` and
+    /// `leine-ramp-40-hard` (docs/rigid-ground.md).
     /// Beside the paper's protocol, a fair comparison:
     /// each maximum also over groups of the observed sample size, each observed share with
     /// its 95 % interval, and the fair RMSE; and a sensitivity table (each Vaujany site rerun

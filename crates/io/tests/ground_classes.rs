@@ -7,7 +7,7 @@
 
 use rockfall_io::load;
 use rockfall_raster::{Field, Grid, GridGeometry, ascii_grid};
-use rockfall_scenario::{GroundModel, Scenario, ScarringGround};
+use rockfall_scenario::{GroundModel, ScarringGround, Scenario};
 use std::path::Path;
 
 const RIGID: &str = r#"engine = "rigid"
@@ -91,10 +91,16 @@ fn classes_of_the_file_on_a_per_cell_map() {
          [[contact.ground_class]]\nid = 8\nname = \"scree\"\nme_mn_m2 = 30\nc_s = 3\n\
          source = \"our survey\"\n"
     );
-    let text = text.replace("dem = \"dem.asc\"", "dem = \"dem.asc\"\nground_class = \"classes.asc\"");
+    let text = text.replace(
+        "dem = \"dem.asc\"",
+        "dem = \"dem.asc\"\nground_class = \"classes.asc\"",
+    );
     let s = load_text(&text, 4.0, 8.0).unwrap();
     let class = s.contact.scarring.class(8).unwrap();
-    assert_eq!((class.name.as_str(), class.params.me_mn_m2), ("scree", 30.0));
+    assert_eq!(
+        (class.name.as_str(), class.params.me_mn_m2),
+        ("scree", 30.0)
+    );
     assert_eq!(class.params.c_s, 3.0);
     assert_eq!(class.params.rho_kg_m3, 1700.0, "the rest from medium");
     assert_eq!(class.source, "our survey");
@@ -115,20 +121,41 @@ fn classes_of_the_file_on_a_per_cell_map() {
         s.ignored_parameters()
     );
     let e = load_text(&text, 4.0, 2.5).unwrap_err();
-    assert!(e.contains("ground_class") && e.contains("whole number"), "{e}");
+    assert!(
+        e.contains("ground_class") && e.contains("whole number"),
+        "{e}"
+    );
 }
 
 #[test]
 fn mistakes_are_errors_naming_the_key() {
     let ground = |extra: &str| format!("{RIGID}[contact.ground]\nmodel = \"scarring\"\n{extra}");
-    fails(&ground("").replace("scarring", "soft"), &["contact.ground.model", "soft"]);
-    fails(&ground("class = \"loam\"\n"), &["contact.ground.class", "loam", "medium"]);
-    fails(&ground("me_mn_m2 = -1\n"), &["contact.ground.me_mn_m2", "-1"]);
-    fails(&ground("mu_max = 0.1\n"), &["contact.ground.mu_max", "mu_min"]);
+    fails(
+        &ground("").replace("scarring", "soft"),
+        &["contact.ground.model", "soft"],
+    );
+    fails(
+        &ground("class = \"loam\"\n"),
+        &["contact.ground.class", "loam", "medium"],
+    );
+    fails(
+        &ground("me_mn_m2 = -1\n"),
+        &["contact.ground.me_mn_m2", "-1"],
+    );
+    fails(
+        &ground("mu_max = 0.1\n"),
+        &["contact.ground.mu_max", "mu_min"],
+    );
     fails(&ground("drag = 1\n"), &["drag"]);
     let class = |body: &str| ground(&format!("[[contact.ground_class]]\n{body}"));
-    fails(&class("id = 0\nname = \"x\"\n"), &["contact.ground_class[1].id", "1–255"]);
-    fails(&class("id = 300\nname = \"x\"\n"), &["contact.ground_class[1].id"]);
+    fails(
+        &class("id = 0\nname = \"x\"\n"),
+        &["contact.ground_class[1].id", "1–255"],
+    );
+    fails(
+        &class("id = 300\nname = \"x\"\n"),
+        &["contact.ground_class[1].id"],
+    );
     fails(
         &class("id = 9\nname = \"x\"\nbase = \"clay\"\n"),
         &["contact.ground_class[1].base", "clay"],
@@ -146,7 +173,10 @@ fn the_ground_round_trips() {
         "{RIGID}[contact.ground]\nmodel = \"scarring\"\nclass = \"scree\"\nkappa_per_m = 2\n\
          [[contact.ground_class]]\nid = 8\nname = \"scree\"\nme_mn_m2 = 30\n"
     );
-    let text = text.replace("dem = \"dem.asc\"", "dem = \"dem.asc\"\nground_class = \"classes.asc\"");
+    let text = text.replace(
+        "dem = \"dem.asc\"",
+        "dem = \"dem.asc\"\nground_class = \"classes.asc\"",
+    );
     let s = load_text(&text, 8.0, 4.0).unwrap();
     assert_eq!(s.contact.scarring.default.params.kappa_per_m, 2.0);
     assert_eq!(s.contact.scarring.default.params.me_mn_m2, 30.0);

@@ -195,9 +195,10 @@ fn immersed_face(
 ) -> (V3, f64) {
     let [i, j, k] = geom.triangles[tri].map(|v| v as usize);
     let f = [i, j, k].map(|v| scratch.below_m(ground, geom, v));
-    let [a, b, c] = [i, j, k].map(|v| geom.vertices_m[v]);
-    let area = 0.5 * (b - a).cross(c - a).length() * immersed_share(f);
-    (geom.planes[tri].0, area)
+    (
+        geom.planes[tri].0,
+        geom.triangle_areas_m2[tri] * immersed_share(f),
+    )
 }
 
 /// The share of a triangle whose vertices are `f` below the surface (linear over it) that is

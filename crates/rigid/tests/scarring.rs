@@ -174,7 +174,11 @@ fn each_cell_scars_by_its_class() {
     let terrain = flat(5.0);
     let g = *terrain.lattice().geometry();
     let classes = Grid::from_fn(g, |r, c| {
-        Some(if g.cell_center(r, c).0 < 0.0 { 3.0 } else { 5.0 })
+        Some(if g.cell_center(r, c).0 < 0.0 {
+            3.0
+        } else {
+            5.0
+        })
     });
     let settings = ScarringSettings::default();
     let field = Field::Grid(classes);
@@ -191,7 +195,10 @@ fn each_cell_scars_by_its_class() {
         depth
     };
     let (west, east) = (depth_at(-2.3), depth_at(2.3));
-    assert!((west / east - 0.5f64.powf(-0.4)).abs() < 1e-9, "{west} {east}");
+    assert!(
+        (west / east - 0.5f64.powf(-0.4)).abs() < 1e-9,
+        "{west} {east}"
+    );
     let bad = Field::Grid(Grid::filled(g, 9.0));
     assert_eq!(ScarMap::new(&settings, Some(&bad), &g).unwrap_err(), 9);
 }

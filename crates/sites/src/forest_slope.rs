@@ -13,10 +13,12 @@
 //! hectare of map; the slope extends 10 m (horizontal) above the release so the release point
 //! lies inside the DEM; the plane below is 160 m long and the site 300 m wide, so that the
 //! rocks' run-out and lateral spread (the shape study's measures) are not cut off by the edges;
-//! a 2 m grid in local coordinates (no CRS); the ground contact is the rock–terrain law of Leine et al.
-//! (2014), reference [12] of seed 001: ε_N = ε_T = 0 with their slippage friction
-//! (μ_min 0.2, μ_max 1.3, β 20 s⁻¹, κ 0.7 m⁻¹); rocks start 0.1 m above the ground at rest,
-//! with a random orientation each.
+//! a 2 m grid in local coordinates (no CRS); the ground is RAMMS::ROCKFALL's scarring ground
+//! (Lu et al. 2019; seed 001's authors' own production model, which the paper does not
+//! parameterise) with its `medium` class, Lu et al. 2019's whole-trajectory set
+//! ([`scarring_contact`]; the hard ground of Leine et al. 2014, reference [12] of seed 001,
+//! which the site used before, is [`leine_2014_contact`]); rocks start 0.1 m above the
+//! ground at rest, with a random orientation each.
 
 use crate::profile::{Profile, Section, sample_dem};
 use crate::{SITE_SEED, SiteError};

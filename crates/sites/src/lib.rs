@@ -33,11 +33,12 @@ pub const SITES: [(&str, &str); 4] = [
     ),
     (
         "forest-slope-40",
-        "seed 001: 40° virtual slope, 200 m drop, 500 stems/ha, rigid engine",
+        "seed 001: 40° virtual slope, 200 m drop, 500 stems/ha, rigid engine, scarring ground",
     ),
     (
         "leine-ramp-40",
-        "Leine et al. 2021: 800 kg EOTA221 blocks down a bare 40° ramp, rigid engine, dt 2 ms",
+        "Leine et al. 2021: 780 kg EOTA221 blocks down a bare 40° ramp, rigid engine, scarring \
+         ground, dt 2 ms",
     ),
 ];
 

@@ -21,6 +21,8 @@ pub struct RockGeometry {
     pub vertices_m: Vec<V3>,
     /// Hull triangles, indices into `vertices_m`, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
+    /// Area of each triangle, m².
+    pub triangle_areas_m2: Vec<f64>,
     /// One plane per triangle: outward unit normal n and offset d (m); a point x is inside the
     /// hull when n·x ≤ d for every plane.
     pub planes: Vec<(V3, f64)>,
@@ -117,6 +119,13 @@ impl RockGeometry {
         RockGeometry {
             graph: VertexGraph::new(&vertices_m, &triangles),
             vertex_triangles: triangles_at_vertices(vertices_m.len(), &triangles),
+            triangle_areas_m2: triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|i| vertices_m[i as usize]);
+                    0.5 * (b - a).cross(c - a).length()
+                })
+                .collect(),
             vertices_m,
             triangles,
             planes,
