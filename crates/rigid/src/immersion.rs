@@ -153,6 +153,21 @@ pub fn plane_contacts(
     ground.node_contacts_below(geom, c, &rot, depth_m, out);
 }
 
+/// The immersed vertices of the analysed rock as contacts with the soil (gap: minus their
+/// depth along the surface normal), for the modes of motion of a rock in the layer.
+pub fn soil_points(scratch: &ImmersionScratch, out: &mut Vec<GroundContact>) {
+    for &k in &scratch.immersed {
+        let k = k as usize;
+        let n = scratch.normal(k);
+        out.push(GroundContact {
+            point_m: scratch.points[k],
+            normal: n,
+            gap_m: -scratch.below[k] * n.z,
+            key: k as u64,
+        });
+    }
+}
+
 /// Frontal area A_Γ of the immersed part of the analysed rock across `direction` (a unit
 /// vector), m² (see the module docs); 0 when nothing is immersed.
 pub fn frontal_area_m2(

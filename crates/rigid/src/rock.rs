@@ -16,7 +16,8 @@
 //! rotational), speed and passing height (vertical height of the centre of mass above the
 //! ground); screen crossings of the centre's path; a tree impact when a contact with a stem
 //! begins (stems do not break: seed 001's stems are rigid); a rebound when a ground contact
-//! begins after a step without one; every time step of recorded trajectories.
+//! begins after a step without one (on the scarring ground: when the rock enters the soft
+//! layer); every time step of recorded trajectories.
 //!
 //! **Nets.** When the centre enters a cell of a net on a new passage with its centre below
 //! the net's height above the ground, the net acts by the rule and the code the lumped engine
@@ -268,20 +269,22 @@ fn run(
         let Under::Surface(surface) = world.ground.under(state.r_m.x, state.r_m.y) else {
             return (Outcome::LeftDem, t);
         };
-        let mut event = if report.ground_contacts > 0 {
+        // on the scarring ground the rock touches the ground while it is in the layer
+        let on_ground = report.ground_contacts.max(report.soil_contacts);
+        let mut event = if on_ground > 0 {
             Event::Roll
         } else {
             Event::Flight
         };
-        if report.ground_contacts > 0 && !log.touching_ground {
+        if on_ground > 0 && !log.touching_ground {
             log.rebounds += 1;
             event = Event::Impact;
         }
-        log.touching_ground = report.ground_contacts > 0;
+        log.touching_ground = on_ground > 0;
         let mode = motion_mode(
             world.stop.stop_speed_ms,
             state.v_ms.length(),
-            report.ground_contacts,
+            on_ground,
             report.slip_ms,
         );
         log.motion_steps[mode] += 1;

@@ -109,6 +109,8 @@ pub struct StepScratch {
     pub in_scar: bool,
     /// Buffers of the immersion analysis.
     immersion: ImmersionScratch,
+    /// The immersed vertices as contacts with the soil (modes of motion only).
+    soil: Vec<GroundContact>,
     /// Counts over every step taken with this scratch.
     pub stats: StepStats,
 }
@@ -192,6 +194,9 @@ pub struct StepReport {
     pub slip_ms: f64,
     /// Whether the rock is in the scarring layer (scarring ground only).
     pub in_scar: bool,
+    /// Hull vertices in the scarring layer when the rock does not touch the rebound plane (0
+    /// otherwise); `slip_ms` is then theirs.
+    pub soil_contacts: usize,
 }
 
 /// Advances `state` by one time step.
@@ -269,7 +274,21 @@ pub fn step(
             report.converged,
         )
     };
-    let slip_ms = mean_slip_ms(&scratch.ground, r_m, v_e, q_m * w_e);
+    // on the scarring ground a rock in the layer that does not touch the rebound plane touches
+    // the soil with its immersed vertices: their slip (and number) stand for the contacts'
+    let soil_contacts = if scratch.in_scar && scratch.ground.is_empty() {
+        scratch.soil.clear();
+        immersion::soil_points(&scratch.immersion, &mut scratch.soil);
+        scratch.soil.len()
+    } else {
+        0
+    };
+    let touching = if soil_contacts > 0 {
+        &scratch.soil
+    } else {
+        &scratch.ground
+    };
+    let slip_ms = mean_slip_ms(touching, r_m, v_e, q_m * w_e);
     advance_slippage(p, scratch, v_e);
     let st = &mut scratch.stats;
     st.steps += 1;
@@ -286,6 +305,7 @@ pub fn step(
     state.q = rotate(q_m, w_e, half).normalize();
     StepReport {
         ground_contacts: scratch.ground.len(),
+        soil_contacts,
         stem_contacts: scratch.stems.len(),
         iterations,
         converged,

@@ -274,6 +274,53 @@ fn a_rolling_disc_never_gains_energy() {
     );
 }
 
+/// The same wheel for 1 s: every step in the layer touches the ground (the rebound plane, or
+/// the soil with its immersed vertices), and the immersed rim of a rolling wheel slips slower
+/// than half the centre's speed on most of them (the modes of motion read it as rolling).
+#[test]
+fn a_wheel_in_its_scar_touches_the_ground_and_rolls() {
+    let theta = 20.0;
+    let body = body_of(&disc_points([0.2, 0.8, 0.8]));
+    let terrain = incline(theta, 30.0);
+    let m = map(&terrain, ScarringGround::LU_2019);
+    let p = scar_params(&body, &m);
+    let q = Quat::from_rotation_x(-theta.to_radians()) * input_pose(&body);
+    let r = resting_on_plane(
+        &body,
+        q,
+        V3::new(0.0, 10.0, 0.0),
+        incline_normal(theta),
+        0.0,
+    );
+    let v = downhill(theta) * 6.0;
+    let mut s = RockState {
+        r_m: r,
+        q,
+        v_ms: v,
+        w_body_rads: q.inverse() * (incline_normal(theta).cross(v) / 0.4),
+    };
+    let (mut in_layer, mut soil, mut rolling) = (0, 0, 0);
+    run(&mut s, &p, &terrain, None, 1000, |_, s, report| {
+        if report.in_scar {
+            in_layer += 1;
+            assert!(
+                report.ground_contacts + report.soil_contacts > 0,
+                "{report:?}"
+            );
+            soil += usize::from(report.soil_contacts > 0);
+            rolling += usize::from(report.slip_ms < 0.5 * s.v_ms.length());
+        } else {
+            assert_eq!(report.soil_contacts, 0);
+        }
+        true
+    });
+    assert!(
+        in_layer > 100 && soil > 0,
+        "{in_layer} steps in the layer, {soil} on soil only"
+    );
+    assert!(rolling > in_layer / 2, "{rolling} of {in_layer} rolling");
+}
+
 fn vec3(range: f64) -> impl Strategy<Value = V3> {
     prop::array::uniform3(-range..range).prop_map(V3::from_array)
 }
