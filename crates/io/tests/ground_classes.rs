@@ -193,3 +193,31 @@ fn the_ground_round_trips() {
         other => panic!("{other:?}"),
     }
 }
+
+/// A class of the file's own replaces the built-in of its number; `base` gives its unset
+/// parameters; the scarring ground names `[contact.slippage]` as ignored.
+#[test]
+fn own_classes_replace_built_ins_and_take_their_base() {
+    let text = format!(
+        "{RIGID}[contact.ground]\nmodel = \"scarring\"\n\
+         [[contact.ground_class]]\nid = 4\nname = \"soft\"\nc_s = 0.5\n\
+         [[contact.ground_class]]\nid = 9\nname = \"firm\"\nbase = \"lu2019-me10\"\n\
+         [contact.slippage]\nmu_min = 0.2\nmu_max = 1.3\nbeta_per_s = 20\nkappa_per_m = 0.7\n"
+    );
+    let s = load_text(&text, 4.0, 4.0).unwrap();
+    let classes = &s.contact.scarring.classes;
+    let ids: Vec<u8> = classes.iter().map(|c| c.id).collect();
+    assert_eq!(ids, [3, 4, 5, 9]);
+    let four = s.contact.scarring.class(4).unwrap();
+    assert_eq!((four.name.as_str(), four.params.c_s), ("soft", 0.5));
+    assert_eq!(s.contact.scarring.class(9).unwrap().params.me_mn_m2, 10.0);
+    let ignored = s.ignored_parameters();
+    assert!(
+        ignored.iter().any(|n| n.starts_with("contact.slippage")),
+        "{ignored:?}"
+    );
+    assert!(
+        ignored.iter().any(|n| n.starts_with("contact.ground.mu")),
+        "{ignored:?}"
+    );
+}

@@ -76,6 +76,22 @@ fn scenario(capacity_kj: f64) -> Scenario {
     s
 }
 
+/// Rocks released among a net's cells do not meet that net on their way out (a net acts on
+/// a new passage only), even one that would stop any rock.
+#[test]
+fn a_net_does_not_catch_rocks_released_in_its_cells() {
+    let mut s = scenario(1e9);
+    let g = *s.terrain.dem.geometry();
+    s.release.cells = (6..14).map(|col| g.index(NET_ROW, col)).collect();
+    s.validate().unwrap();
+    let r = run(&s);
+    assert_eq!(r.rocks(), 32);
+    assert!(
+        (r.rock_records().iter()).all(|k| !matches!(k.end.outcome, Outcome::NetStopped { .. })),
+        "a rock released in the net was caught"
+    );
+}
+
 fn run(s: &Scenario) -> Results {
     let layout = Arc::new(Layout::of(s));
     let plan = Plan::new(RigidModel::new(s, None).unwrap(), s).unwrap();

@@ -269,3 +269,119 @@ impl ScarringSettings {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The built-in classes, their numbers and their M_e; `medium` is Lu et al. 2019's set.
+    #[test]
+    fn builtin_classes_are_the_sourced_sets() {
+        let ids: Vec<(u8, String, f64)> = builtin_ground_classes()
+            .into_iter()
+            .map(|c| (c.id, c.name, c.params.me_mn_m2))
+            .collect();
+        assert_eq!(
+            ids,
+            [
+                (3, "lu2019-me10".to_string(), 10.0),
+                (4, "medium".to_string(), 15.0),
+                (5, "lu2019-me20".to_string(), 20.0)
+            ]
+        );
+        let m = builtin_ground_class("MEDIUM").unwrap().params;
+        assert_eq!(m, ScarringGround::LU_2019);
+        assert_eq!(
+            (
+                m.c_s,
+                m.c_f,
+                m.rho_kg_m3,
+                m.mu_min,
+                m.mu_max,
+                m.beta_per_s,
+                m.kappa_per_m
+            ),
+            (1.5, 1.0, 1700.0, 0.55, 2.0, 185.0, 3.0)
+        );
+        assert!((m.drag_coefficient() - 2.5).abs() < 1e-15);
+        assert!(builtin_ground_class("loam").is_none());
+    }
+
+    /// Each key out of its range is named, with its value and the range.
+    #[test]
+    fn every_parameter_is_range_checked() {
+        let base = ScarringGround::LU_2019;
+        assert_eq!(base.out_of_range(), None);
+        let cases: [(&str, ScarringGround); 9] = [
+            (
+                "me_mn_m2",
+                ScarringGround {
+                    me_mn_m2: 0.0,
+                    ..base
+                },
+            ),
+            ("c_s", ScarringGround { c_s: -1.0, ..base }),
+            ("c_f", ScarringGround { c_f: -1.0, ..base }),
+            (
+                "rho_kg_m3",
+                ScarringGround {
+                    rho_kg_m3: -1.0,
+                    ..base
+                },
+            ),
+            (
+                "mu_min",
+                ScarringGround {
+                    mu_min: -0.1,
+                    ..base
+                },
+            ),
+            (
+                "mu_max",
+                ScarringGround {
+                    mu_max: 0.5,
+                    ..base
+                },
+            ),
+            (
+                "beta_per_s",
+                ScarringGround {
+                    beta_per_s: -1.0,
+                    ..base
+                },
+            ),
+            (
+                "kappa_per_m",
+                ScarringGround {
+                    kappa_per_m: -1.0,
+                    ..base
+                },
+            ),
+            (
+                "me_mn_m2",
+                ScarringGround {
+                    me_mn_m2: f64::NAN,
+                    ..base
+                },
+            ),
+        ];
+        for (key, g) in cases {
+            let (k, _, _) = g.out_of_range().unwrap_or_else(|| panic!("{key} passed"));
+            assert_eq!(k, key);
+        }
+    }
+
+    /// `check` covers the default class as well as the map's classes.
+    #[test]
+    fn check_covers_the_default_class() {
+        let mut s = ScarringSettings::default();
+        s.check(None).unwrap();
+        s.default.params.me_mn_m2 = 0.0;
+        let e = s.check(None).unwrap_err().to_string();
+        assert!(e.contains("contact.ground.me_mn_m2"), "{e}");
+        let mut s = ScarringSettings::default();
+        s.classes[0].params.c_f = -2.0;
+        let e = s.check(None).unwrap_err().to_string();
+        assert!(e.contains("lu2019-me10") && e.contains("c_f"), "{e}");
+    }
+}
