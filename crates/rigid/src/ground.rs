@@ -40,7 +40,7 @@ pub type FeatureKey = u64;
 
 /// Slack of the body-frame vertex filter, relative to the lengths involved (m per m): far above
 /// rounding, far below any gap that matters.
-pub const FILTER_TOLERANCE_M: f64 = 1e-9;
+const FILTER_TOLERANCE_M: f64 = 1e-9;
 
 /// High bit marking a DEM-node feature key.
 const NODE_BIT: u64 = 1 << 63;
@@ -163,19 +163,11 @@ impl Ground {
         s_c: &SurfacePoint,
         out: &mut Vec<GroundContact>,
     ) -> Option<Clearance> {
-        let radius = geom.circumradius_m;
-        let plane = |x: f64, y: f64| s_c.z_m + s_c.dzdx * (x - c.x) + s_c.dzdy * (y - c.y);
-        let excess = self.footprint_excess(c, radius, &plane);
-        let n_z = s_c.normal()[2];
-        if (c.z - plane(c.x, c.y) - excess) * n_z > radius {
-            return self.clearance(c, radius, s_c, n_z, &plane);
-        }
-        // Height of vertex v over the plane: (c.z − plane(c)) + (R v)·m with
-        // m = (−∂z/∂x, −∂z/∂y, 1), i.e. v·(Rᵀ m) in the body frame: one dot product per vertex
-        // picks the few that can touch before any is rotated. The tolerance keeps every vertex
-        // the world-frame test would keep despite rounding.
-        let m_body = rot.transpose() * V3::new(-s_c.dzdx, -s_c.dzdy, 1.0);
-        let cut = excess - (c.z - s_c.z_m) + FILTER_TOLERANCE_M * (1.0 + radius + excess.abs());
+        let excess_m = match self.proximity(geom, c, s_c) {
+            Proximity::Clear(clearance) => return clearance,
+            Proximity::Near { excess_m } => excess_m,
+        };
+        let (m_body, cut) = vertex_filter(geom, c, rot, s_c, excess_m);
         for (k, v) in geom.vertices_m.iter().enumerate() {
             if v.dot(m_body) > cut {
                 continue;
@@ -286,6 +278,26 @@ impl Ground {
             }
         });
     }
+}
+
+/// The body-frame filter of the vertices that may be below the ground, `(m, cut)`: vertex v
+/// can be only where `v·m ≤ cut`. The height of v over the tangent plane at the centre `c` is
+/// `(c.z − plane(c)) + (R v)·m_w` with `m_w = (−∂z/∂x, −∂z/∂y, 1)`, i.e. `v·(Rᵀ m_w)` in the
+/// body frame, and no ground under the rock is higher than `excess_m` over that plane
+/// ([`Proximity::Near`]): one dot product per vertex picks the few that can touch before any
+/// is rotated. The tolerance keeps every vertex the world-frame test would keep despite
+/// rounding.
+pub fn vertex_filter(
+    geom: &RockGeometry,
+    c: V3,
+    rot: &M3,
+    s_c: &SurfacePoint,
+    excess_m: f64,
+) -> (V3, f64) {
+    let m_body = rot.transpose() * V3::new(-s_c.dzdx, -s_c.dzdy, 1.0);
+    let radius = geom.circumradius_m;
+    let cut = excess_m - (c.z - s_c.z_m) + FILTER_TOLERANCE_M * (1.0 + radius + excess_m.abs());
+    (m_body, cut)
 }
 
 /// Signed distance of body-frame point `q` to the hull (negative inside: minus the distance

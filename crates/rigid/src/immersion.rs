@@ -19,7 +19,7 @@
 //! bound there ([`crate::ground::Proximity::Near`]) is above the ground and is neither
 //! rotated nor looked up, unless a face it shares with an immersed vertex needs it.
 
-use crate::ground::{FILTER_TOLERANCE_M, Ground, GroundContact};
+use crate::ground::{Ground, GroundContact, vertex_filter};
 use crate::math::{M3, V3};
 use crate::shape::RockGeometry;
 use rockfall_terrain::SurfacePoint;
@@ -110,11 +110,7 @@ pub fn immersion(
     scratch.reset(geom.vertices_m.len());
     scratch.centre_m = c;
     scratch.rot = *rot;
-    // height of vertex v over the tangent plane: (c.z − plane(c)) + v·(Rᵀ m), m = (−∂z/∂x,
-    // −∂z/∂y, 1), as in `Ground::contacts`
-    let m_body = rot.transpose() * V3::new(-s_c.dzdx, -s_c.dzdy, 1.0);
-    let radius = geom.circumradius_m;
-    let cut = excess_m - (c.z - s_c.z_m) + FILTER_TOLERANCE_M * (1.0 + radius + excess_m.abs());
+    let (m_body, cut) = vertex_filter(geom, c, rot, s_c, excess_m);
     for (k, v) in geom.vertices_m.iter().enumerate() {
         if v.dot(m_body) > cut {
             continue;

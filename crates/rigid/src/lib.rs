@@ -16,6 +16,7 @@ pub use math::{M3, Quat, V3};
 
 pub mod ground;
 pub mod immersion;
+mod nets;
 pub mod rock;
 pub mod scar;
 pub mod stems;

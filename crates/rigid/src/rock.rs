@@ -19,21 +19,17 @@
 //! begins after a step without one (on the scarring ground: when the rock enters the soft
 //! layer); every time step of recorded trajectories.
 //!
-//! **Nets.** When the centre enters a cell of a net on a new passage with its centre below
-//! the net's height above the ground, the net acts by the rule and the code the lumped engine
-//! uses ([`rockfall_engine::nets`]): a rock with no more kinetic energy than the capacity
-//! stops in it (`net_stopped`), any other goes on with speed and spin scaled so that its
-//! energy drops by the capacity. The first cell of a passage through a net that has a screen
-//! counts as a crossing of that screen, whatever the rock's height.
+//! **Nets** act as the lumped engine's do ([`crate::nets`]).
 
 use crate::ground::{Ground, Under};
 use crate::math::{Quat, V3};
+use crate::nets::NetTrack;
 use crate::rotation::rotational_energy_j;
 use crate::shape::RockBody;
 use crate::stems::Stand;
 use crate::step::{RockState, StepParams, StepReport, StepScratch, step};
 use rand::RngExt;
-use rockfall_engine::nets::{NetEffect, NetMap, NetPassage, net_effect};
+use rockfall_engine::nets::NetMap;
 use rockfall_results::{
     CellVisit, Event, Motion, Outcome, RockEnd, RockStart, ScreenCrossing, ScreenSet, Tally,
     TrajectoryRow,
@@ -148,9 +144,8 @@ struct Log<'t> {
     touching_ground: bool,
     /// Steps in each mode of motion, in the order of [`Motion::as_array`].
     motion_steps: [u32; 5],
-    /// The net passage of the centre, and the cell it was last in.
-    net: NetPassage,
-    net_cell: Option<usize>,
+    /// The centre's passage through the nets' cells.
+    nets: NetTrack,
 }
 
 impl Log<'_> {
@@ -233,8 +228,7 @@ pub fn simulate(
         rebounds: 0,
         touching_ground: false,
         motion_steps: [0; 5],
-        net: NetPassage::default(),
-        net_cell: None,
+        nets: NetTrack::default(),
     };
     let (outcome, time_s) = if z.is_none() {
         (Outcome::Failed, 0.0)
@@ -292,7 +286,7 @@ fn run(
             event = Event::Tree;
         }
         screens(world, body, before, state, log);
-        if let Some(cell) = nets(world, body, state, surface.z_m, log) {
+        if let Some(cell) = (log.nets).meet(world, body, state, surface.z_m, log.tally) {
             return (Outcome::NetStopped { cell }, t);
         }
         if at_rest(world, body, state, &report, &mut rest_s) {
@@ -386,75 +380,11 @@ fn tree_impacts(
 }
 
 /// Kinetic energies (translational, rotational) of `state`, J.
-fn energies_j(body: &RockBody, state: &RockState) -> (f64, f64) {
+pub(crate) fn energies_j(body: &RockBody, state: &RockState) -> (f64, f64) {
     (
         0.5 * body.mass_kg * state.v_ms.length_squared(),
         rotational_energy_j(state.w_body_rads, body.inertia_kgm2),
     )
-}
-
-/// The nets' rule ([`rockfall_engine::nets`]) when the centre has entered a new cell: a net
-/// screen crossing, and the net's effect on a rock below its height. Returns the cell of a
-/// net that stopped the rock; `ground_z_m` is the ground height under the centre.
-fn nets(
-    world: &World<'_>,
-    body: &RockBody,
-    state: &mut RockState,
-    ground_z_m: f64,
-    log: &mut Log<'_>,
-) -> Option<usize> {
-    if world.nets.is_empty() {
-        return None;
-    }
-    let cell = world
-        .ground
-        .lattice()
-        .cell_index(state.r_m.x, state.r_m.y)?;
-    if log.net_cell == Some(cell) {
-        return None;
-    }
-    let first = log.net_cell.is_none();
-    log.net_cell = Some(cell);
-    let net = world.nets.at(cell);
-    if !log.net.enter(net.map_or(0, |n| n.id), first) {
-        return None;
-    }
-    let net = net?;
-    let (e_t, e_r) = energies_j(body, state);
-    let height_m = state.r_m.z - ground_z_m;
-    if let Some(k) = world.screens.net_screen(net.id) {
-        log.tally.screen_crossing(
-            k,
-            ScreenCrossing {
-                velocity_ms: state.v_ms.length(),
-                energy_j: e_t + e_r,
-                jump_height_m: height_m,
-                x_m: state.r_m.x,
-                y_m: state.r_m.y,
-            },
-        );
-    }
-    if height_m >= net.height_m {
-        return None;
-    }
-    match net_effect(e_t + e_r, net.energy_j) {
-        NetEffect::Stopped => {
-            state.v_ms = V3::ZERO;
-            state.w_body_rads = V3::ZERO;
-            Some(cell)
-        }
-        NetEffect::Passed { keep } => {
-            slow_by(state, keep);
-            None
-        }
-    }
-}
-
-/// Scales the rock's speed and spin by `keep`: its kinetic energy, translational and
-/// rotational, by keep² (a net's `NetEffect::Passed`).
-fn slow_by(state: &mut RockState, keep: f64) {
-    state.v_ms *= keep;
-    state.w_body_rads *= keep;
 }
 
 /// Reports the crossings of the centre's path from `before` to the current position.
@@ -560,34 +490,7 @@ fn finish(
 
 #[cfg(test)]
 mod tests {
-    use super::{energies_j, motion_mode, slow_by};
-    use crate::shape::{RockBody, RockGeometry, box_points};
-    use crate::step::RockState;
-    use crate::{Quat, V3};
-
-    /// A spinning rock of 400 kJ passing a net of 300 kJ keeps 100 kJ, of its motion and of
-    /// its spin alike.
-    #[test]
-    fn a_net_takes_its_capacity_from_motion_and_spin() {
-        let geom = RockGeometry::from_points(&box_points([0.6, 0.8, 1.0])).unwrap();
-        let body = RockBody::new(geom, 2700.0).unwrap();
-        let mut s = RockState {
-            r_m: V3::ZERO,
-            q: Quat::IDENTITY,
-            v_ms: V3::new(3.0, -4.0, 1.0),
-            w_body_rads: V3::new(2.0, -7.0, 5.0),
-        };
-        let (t0, r0) = energies_j(&body, &s);
-        let e0 = t0 + r0;
-        let rockfall_engine::nets::NetEffect::Passed { keep } =
-            rockfall_engine::nets::net_effect(e0, 0.75 * e0)
-        else {
-            panic!("passes")
-        };
-        slow_by(&mut s, keep);
-        let (t1, r1) = energies_j(&body, &s);
-        assert!((t1 - 0.25 * t0).abs() < 1e-9 * e0 && (r1 - 0.25 * r0).abs() < 1e-9 * e0);
-    }
+    use super::motion_mode;
 
     /// The rule of `Motion`, case by case and at its edges: no contact is flight whatever the
     /// speed; contact below the stop speed is slow; slip under half the speed rolls; else

@@ -387,25 +387,13 @@ fn mean_slip_ms(ground: &[GroundContact], r: V3, v: V3, w: V3) -> f64 {
 /// (Lu et al. 2019 eq. 13), else the hard ground's μ or its slippage friction.
 fn ground_mu(p: &StepParams<'_>, s_m: f64, scar: Option<&Scar>) -> f64 {
     let slippage = match (p.scar, scar) {
-        (Some(_), Some(scar)) => Slippage {
-            mu_min: scar.ground.mu_min,
-            mu_max: scar.ground.mu_max,
-            beta_per_s: scar.ground.beta_per_s,
-            kappa_per_m: scar.ground.kappa_per_m,
-        },
+        (Some(_), Some(scar)) => scar.ground.slippage(),
         _ => match p.slippage {
             None => return p.ground.mu,
             Some(sl) => sl,
         },
     };
-    slippage_mu(&slippage, s_m)
-}
-
-/// `μ(s) = μ_min + (2/π)(μ_max − μ_min)·atan(κ s)` (Leine et al. 2014 eq. 46; Lu et al. 2019
-/// eq. 13).
-fn slippage_mu(sl: &Slippage, s_m: f64) -> f64 {
-    sl.mu_min
-        + std::f64::consts::FRAC_2_PI * (sl.mu_max - sl.mu_min) * (sl.kappa_per_m * s_m).atan()
+    slippage.mu(s_m)
 }
 
 /// RAMMS slippage: `ṡ = |v|` in ground contact, `ṡ = −β s` otherwise (Leine et al. 2014

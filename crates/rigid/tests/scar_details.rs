@@ -161,10 +161,16 @@ fn slippage_grows_under_force_and_decays_otherwise() {
         ground: ScarringGround::LU_2019,
     };
     let decay = (-185.0 * DT_S).exp();
+    // a scratch after that impact, in the layer or not, with slippage `s_m`
+    let after_impact = |in_scar: bool, s_m: f64| {
+        let mut scratch = StepScratch::default();
+        scratch.scar = Some(scar);
+        scratch.in_scar = in_scar;
+        scratch.slippage_m = s_m;
+        scratch
+    };
     // in flight after an impact
-    let mut scratch = StepScratch::default();
-    scratch.scar = Some(scar);
-    scratch.slippage_m = 1.0;
+    let mut scratch = after_impact(false, 1.0);
     let mut s = at_rest(V3::new(0.3, 0.2, 5.0), input_pose(&body));
     step(&mut s, &p, &terrain, None, &mut scratch);
     assert!(
@@ -174,10 +180,7 @@ fn slippage_grows_under_force_and_decays_otherwise() {
     );
     // on the rebound plane, leaving it at 2 m/s: the contact (2 mm deep at the start, 1 mm at
     // the midpoint) carries no force
-    let mut scratch = StepScratch::default();
-    scratch.scar = Some(scar);
-    scratch.in_scar = true;
-    scratch.slippage_m = 1.0;
+    let mut scratch = after_impact(true, 1.0);
     let mut s = RockState {
         v_ms: V3::new(0.0, 0.0, 2.0),
         ..at_rest(V3::new(0.3, 0.2, 0.25 - 0.05 - 2e-3), input_pose(&body))
@@ -190,9 +193,7 @@ fn slippage_grows_under_force_and_decays_otherwise() {
         scratch.slippage_m
     );
     // sliding on it at 3 m/s under its weight: the contacts push, s grows by |v_E| Δt
-    let mut scratch = StepScratch::default();
-    scratch.scar = Some(scar);
-    scratch.in_scar = true;
+    let mut scratch = after_impact(true, 0.0);
     let mut s = RockState {
         v_ms: V3::new(3.0, 0.0, 0.0),
         ..at_rest(V3::new(0.3, 0.2, 0.25 - 0.05 - 1e-6), input_pose(&body))

@@ -234,32 +234,38 @@ fn a_slide_is_stopped_and_never_gains_energy() {
     );
 }
 
+/// Slope of the wheel tests, degrees.
+const WHEEL_SLOPE_DEG: f64 = 20.0;
+
+/// A wheel (a disc 0.8 m across, 0.2 m thick) and a plane of [`WHEEL_SLOPE_DEG`].
+fn wheel_slope() -> (RockBody, rockfall_rigid::ground::Ground) {
+    let body = body_of(&disc_points([0.2, 0.8, 0.8]));
+    (body, incline(WHEEL_SLOPE_DEG, 30.0))
+}
+
+/// The wheel upright on the plane, its axis (body x, the thin one) across the slope, rolling
+/// down at 6 m/s without slip.
+fn rolling_wheel(body: &RockBody) -> RockState {
+    let theta = WHEEL_SLOPE_DEG;
+    let q = Quat::from_rotation_x(-theta.to_radians()) * input_pose(body);
+    let r = resting_on_plane(body, q, V3::new(0.0, 10.0, 0.0), incline_normal(theta), 0.0);
+    let v = downhill(theta) * 6.0;
+    RockState {
+        r_m: r,
+        q,
+        v_ms: v,
+        w_body_rads: q.inverse() * (incline_normal(theta).cross(v) / 0.4),
+    }
+}
+
 /// A disc (a wheel, 0.8 m across, 0.2 m thick) rolling down 20° at 6 m/s on its rim: the
 /// energy never grows over 2 s.
 #[test]
 fn a_rolling_disc_never_gains_energy() {
-    let theta = 20.0;
-    let body = body_of(&disc_points([0.2, 0.8, 0.8]));
-    let terrain = incline(theta, 30.0);
+    let (body, terrain) = wheel_slope();
     let m = map(&terrain, ScarringGround::LU_2019);
     let p = scar_params(&body, &m);
-    // wheel upright: its axis (body x, the thin one) across the slope
-    let q = Quat::from_rotation_x(-theta.to_radians()) * input_pose(&body);
-    let r = resting_on_plane(
-        &body,
-        q,
-        V3::new(0.0, 10.0, 0.0),
-        incline_normal(theta),
-        0.0,
-    );
-    let v = downhill(theta) * 6.0;
-    let w_world = incline_normal(theta).cross(v) / 0.4;
-    let mut s = RockState {
-        r_m: r,
-        q,
-        v_ms: v,
-        w_body_rads: q.inverse() * w_world,
-    };
+    let mut s = rolling_wheel(&body);
     let mut in_scar = 0;
     let excess = energy_excess_j(&body, &mut s, &p, &terrain, 2000, |_, scratch| {
         in_scar += usize::from(scratch.in_scar);
@@ -279,26 +285,10 @@ fn a_rolling_disc_never_gains_energy() {
 /// than half the centre's speed on most of them (the modes of motion read it as rolling).
 #[test]
 fn a_wheel_in_its_scar_touches_the_ground_and_rolls() {
-    let theta = 20.0;
-    let body = body_of(&disc_points([0.2, 0.8, 0.8]));
-    let terrain = incline(theta, 30.0);
+    let (body, terrain) = wheel_slope();
     let m = map(&terrain, ScarringGround::LU_2019);
     let p = scar_params(&body, &m);
-    let q = Quat::from_rotation_x(-theta.to_radians()) * input_pose(&body);
-    let r = resting_on_plane(
-        &body,
-        q,
-        V3::new(0.0, 10.0, 0.0),
-        incline_normal(theta),
-        0.0,
-    );
-    let v = downhill(theta) * 6.0;
-    let mut s = RockState {
-        r_m: r,
-        q,
-        v_ms: v,
-        w_body_rads: q.inverse() * (incline_normal(theta).cross(v) / 0.4),
-    };
+    let mut s = rolling_wheel(&body);
     let (mut in_layer, mut soil, mut rolling) = (0, 0, 0);
     run(&mut s, &p, &terrain, None, 1000, |_, s, report| {
         if report.in_scar {

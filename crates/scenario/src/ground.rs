@@ -107,6 +107,16 @@ impl ScarringGround {
         kappa_per_m: 3.0,
     };
 
+    /// The rebound plane's slippage friction (eqs. 13–14).
+    pub fn slippage(&self) -> crate::Slippage {
+        crate::Slippage {
+            mu_min: self.mu_min,
+            mu_max: self.mu_max,
+            beta_per_s: self.beta_per_s,
+            kappa_per_m: self.kappa_per_m,
+        }
+    }
+
     /// The scar drag coefficient C_d^I = C_f^I + C_s^I (eq. 12).
     pub fn drag_coefficient(&self) -> f64 {
         self.c_f + self.c_s

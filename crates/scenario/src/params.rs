@@ -237,6 +237,18 @@ pub struct Slippage {
     pub kappa_per_m: f64,
 }
 
+impl Slippage {
+    /// The friction coefficient at slippage `s_m` (m):
+    /// `μ(s) = μ_min + (2/π)(μ_max − μ_min)·atan(κ s)` (Leine et al. 2014 eq. 46; Lu et al. 2019
+    /// eq. 13).
+    pub fn mu(&self, s_m: f64) -> f64 {
+        self.mu_min
+            + std::f64::consts::FRAC_2_PI
+                * (self.mu_max - self.mu_min)
+                * (self.kappa_per_m * s_m).atan()
+    }
+}
+
 /// Contact parameters of the rigid engine.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactSettings {
