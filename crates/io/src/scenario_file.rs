@@ -596,5 +596,6 @@ fn output(o: Option<schema::OutputSec>) -> OutputSettings {
         rocks_csv: o.rocks_csv.unwrap_or(d.rocks_csv),
         screen_crossings: o.screen_crossings.unwrap_or(d.screen_crossings),
         percentiles: o.percentiles.unwrap_or(d.percentiles),
+        energy_thresholds_kj: o.energy_thresholds_kj.unwrap_or(d.energy_thresholds_kj),
     }
 }

@@ -299,4 +299,5 @@ pub struct OutputSec {
     pub rocks_csv: Option<bool>,
     pub screen_crossings: Option<bool>,
     pub percentiles: Option<Vec<f64>>,
+    pub energy_thresholds_kj: Option<Vec<f64>>,
 }

@@ -377,13 +377,14 @@ fn settings_toml(s: &Scenario, t: &mut String) {
     let _ = write!(
         t,
         "\n[output]\ntrajectories = {}\ntrajectory_interval_s = {}\nascii_rasters = {}\n\
-         rocks_csv = {}\nscreen_crossings = {}\npercentiles = {}\n",
+         rocks_csv = {}\nscreen_crossings = {}\npercentiles = {}\nenergy_thresholds_kj = {}\n",
         o.trajectories,
         num(o.trajectory_interval_s),
         o.ascii_rasters,
         o.rocks_csv,
         o.screen_crossings,
-        arr(&o.percentiles)
+        arr(&o.percentiles),
+        arr(&o.energy_thresholds_kj)
     );
 }
 

@@ -706,3 +706,35 @@ fn screen_limits_parse_round_trip_and_are_checked() {
     let back = load(&dir.path().join("scenario.toml")).unwrap();
     assert_eq!(back.screens, s.screens);
 }
+
+#[test]
+fn energy_thresholds_parse_round_trip_and_are_checked() {
+    assert_eq!(
+        loads(MINIMAL).output.energy_thresholds_kj,
+        [30.0, 100.0, 300.0],
+        "default: the Swiss and Austrian intensity limits"
+    );
+    let text = edit(
+        MINIMAL,
+        "trajectories = 1",
+        "trajectories = 1\nenergy_thresholds_kj = [10, 50]",
+    );
+    assert_eq!(loads(&text).output.energy_thresholds_kj, [10.0, 50.0]);
+    let dir = tempfile::tempdir().unwrap();
+    let mut site = rockfall_sites::build("vaujany-site2").unwrap();
+    site.output.energy_thresholds_kj = vec![12.5, 400.0];
+    rockfall_io::write::write_scenario_dir(&site, dir.path()).unwrap();
+    let back = load(&dir.path().join("scenario.toml")).unwrap();
+    assert_eq!(back.output.energy_thresholds_kj, [12.5, 400.0]);
+    for (bad, needle) in [
+        ("[50, 10]", "strictly above"),
+        ("[10, 10]", "strictly above"),
+        ("[0, 10]", "> 0"),
+        ("[1, 2, 3, 4, 5, 6, 7]", "at most 6"),
+    ] {
+        fails(
+            &edit(&text, "[10, 50]", bad),
+            &["output.energy_thresholds_kj", needle],
+        );
+    }
+}

@@ -111,6 +111,7 @@ fn run(s: &Scenario, forest: &Forest, threads: usize) -> Results {
     let layout = Arc::new(Layout {
         crs: None,
         percentiles: vec![50.0, 95.0, 99.0],
+        energy_thresholds_kj: vec![0.5, 2.0],
         trajectories: 30,
         ..Layout::of(s)
     });

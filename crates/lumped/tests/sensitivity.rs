@@ -97,6 +97,7 @@ fn run(s: &Scenario, forest: Option<&Forest>) -> Results {
         crs: None,
         screens: Vec::new(),
         percentiles: vec![50.0, 95.0],
+        energy_thresholds_kj: Vec::new(),
         trajectories: 0,
         ..Layout::of(s)
     });

@@ -18,6 +18,32 @@ use crate::hist::{
 /// No statistics for this cell yet.
 const NONE: u32 = u32::MAX;
 
+pub use rockfall_scenario::MAX_ENERGY_THRESHOLDS;
+
+/// The energy thresholds of a table, J, ascending (the first `n` of `j` are used).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Thresholds {
+    n: usize,
+    j: [f64; MAX_ENERGY_THRESHOLDS],
+}
+
+impl Thresholds {
+    /// The first [`MAX_ENERGY_THRESHOLDS`] of `kj` (kJ, ascending), in J.
+    pub(crate) fn of_kj(kj: &[f64]) -> Thresholds {
+        let mut j = [f64::INFINITY; MAX_ENERGY_THRESHOLDS];
+        let n = kj.len().min(MAX_ENERGY_THRESHOLDS);
+        for (t, &k) in j.iter_mut().zip(&kj[..n]) {
+            *t = k * 1e3;
+        }
+        Thresholds { n, j }
+    }
+
+    /// Number of thresholds.
+    pub(crate) fn len(&self) -> usize {
+        self.n
+    }
+}
+
 /// Bin counts of one visited cell. Counts saturate at `u32::MAX` (≈ 4.3·10⁹ visits of one
 /// cell falling into one bin), which keeps merging order-independent.
 #[derive(Debug, Clone)]
@@ -26,6 +52,21 @@ pub(crate) struct CellHists {
     pub(crate) energy: [u32; ENERGY_BINS],
     /// Passing height per visit, [`SHORT_AXIS`].
     pub(crate) height: [u32; SHORT_BINS],
+    /// Distinct rocks that visited the cell with more than each energy threshold
+    /// ([`Thresholds`], in the layout's order): `N_pass(x, E > e)` of the hazard
+    /// frequency (see `rockfall-hazard`). Exact counts, added on merging.
+    pub(crate) above: [u64; MAX_ENERGY_THRESHOLDS],
+}
+
+impl CellHists {
+    /// Empty histograms and counts.
+    pub(crate) fn empty() -> Box<CellHists> {
+        Box::new(CellHists {
+            energy: [0; ENERGY_BINS],
+            height: [0; SHORT_BINS],
+            above: [0; MAX_ENERGY_THRESHOLDS],
+        })
+    }
 }
 
 /// Everything known about one cell.
@@ -36,6 +77,8 @@ pub(crate) struct CellStats {
     /// `rock_id + 1` of the last rock that visited it in this tally (0: none); only for
     /// counting distinct rocks, never output.
     last_rock: u64,
+    /// Bit `k`: the last rock was already counted above threshold `k` here (never output).
+    above_mask: u8,
     /// Visits (`Nr_passages`).
     pub(crate) visits: u64,
     /// Distinct rocks that visited it.
@@ -75,6 +118,7 @@ impl CellStats {
         CellStats {
             cell,
             last_rock: 0,
+            above_mask: 0,
             visits: 0,
             reached: 0,
             deposited: 0,
@@ -157,6 +201,9 @@ impl CellStats {
             (Some(a), Some(b)) => {
                 add_saturating(&mut a.energy, &b.energy);
                 add_saturating(&mut a.height, &b.height);
+                for (x, y) in a.above.iter_mut().zip(b.above) {
+                    *x += y;
+                }
             }
         }
         self.sources = union_sorted(&self.sources, &o.sources);
@@ -218,6 +265,8 @@ type Block = [u32; BLOCK * BLOCK];
 /// Per-cell statistics of a grid, allocated block by block where something happened.
 #[derive(Debug, Clone)]
 pub(crate) struct CellTable {
+    /// Energies passages are counted above.
+    thresholds: Thresholds,
     ncols: usize,
     len: usize,
     /// Blocks per block row: `ceil(ncols / 64)`.
@@ -230,11 +279,12 @@ pub(crate) struct CellTable {
 }
 
 impl CellTable {
-    /// An empty table for the cells of `geometry`.
-    pub(crate) fn new(geometry: &GridGeometry) -> CellTable {
+    /// An empty table for the cells of `geometry`, counting rocks above `thresholds`.
+    pub(crate) fn new(geometry: &GridGeometry, thresholds: Thresholds) -> CellTable {
         let blocks_across = geometry.ncols.div_ceil(BLOCK);
         let blocks_down = geometry.nrows.div_ceil(BLOCK);
         CellTable {
+            thresholds,
             ncols: geometry.ncols,
             len: geometry.len(),
             blocks_across,
@@ -313,6 +363,7 @@ impl CellTable {
         v: &CellVisit,
         el_angle_deg: Option<f64>,
     ) {
+        let thresholds = self.thresholds;
         let Some(c) = self.entry(cell) else { return };
         let (e, h, s) = (
             clean(v.energy_j),
@@ -322,6 +373,7 @@ impl CellTable {
         c.visits += 1;
         if c.last_rock != rock_key {
             c.last_rock = rock_key;
+            c.above_mask = 0;
             c.reached += 1;
             if let Err(pos) = c.sources.binary_search(&source) {
                 c.sources.insert(pos, source);
@@ -341,15 +393,25 @@ impl CellTable {
         c.energy_max_j = c.energy_max_j.max(e);
         c.height_max_m = c.height_max_m.max(h);
         c.velocity_max_ms = c.velocity_max_ms.max(s);
-        let hists = c.hists.get_or_insert_with(|| {
-            Box::new(CellHists {
-                energy: [0; ENERGY_BINS],
-                height: [0; SHORT_BINS],
-            })
-        });
+        let hists = c.hists.get_or_insert_with(CellHists::empty);
         let (be, bh) = (ENERGY_AXIS.bin(e), SHORT_AXIS.bin(h));
         hists.energy[be] = hists.energy[be].saturating_add(1);
         hists.height[bh] = hists.height[bh].saturating_add(1);
+        // ascending thresholds: stop at the first one the visit does not exceed
+        for k in 0..thresholds.n {
+            if e <= thresholds.j[k] {
+                break;
+            }
+            if c.above_mask & (1 << k) == 0 {
+                c.above_mask |= 1 << k;
+                hists.above[k] += 1;
+            }
+        }
+    }
+
+    /// The table's energy thresholds.
+    pub(crate) fn thresholds(&self) -> Thresholds {
+        self.thresholds
     }
 
     /// A tree impact at `height_m` (m above the ground) in `cell`.
@@ -395,13 +457,16 @@ mod tests {
 
     #[test]
     fn visits_outside_the_grid_are_ignored_and_distinct_rocks_counted_once() {
-        let mut t = CellTable::new(&GridGeometry {
-            ncols: 2,
-            nrows: 2,
-            x_min_m: 0.0,
-            y_min_m: 0.0,
-            cell_size_m: 1.0,
-        });
+        let mut t = CellTable::new(
+            &GridGeometry {
+                ncols: 2,
+                nrows: 2,
+                x_min_m: 0.0,
+                y_min_m: 0.0,
+                cell_size_m: 1.0,
+            },
+            Thresholds::of_kj(&[]),
+        );
         let v = CellVisit {
             energy_j: 10.0,
             velocity_ms: 2.0,
@@ -419,6 +484,47 @@ mod tests {
     }
 
     #[test]
+    fn rocks_above_each_threshold_are_counted_once_per_rock_and_merge_exactly() {
+        let g = GridGeometry {
+            ncols: 3,
+            nrows: 1,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 1.0,
+        };
+        let th = Thresholds::of_kj(&[30.0, 100.0, 300.0]);
+        let visit = |kj: f64| CellVisit {
+            energy_j: kj * 1e3,
+            velocity_ms: 1.0,
+            passing_height_m: 0.1,
+        };
+        let mut a = CellTable::new(&g, th);
+        // rock 1: twice above 100 kJ in cell 0, counted once; exactly 30 kJ is not above
+        a.visit(0, 1, 0, &visit(150.0), None);
+        a.visit(0, 1, 0, &visit(120.0), None);
+        a.visit(1, 1, 0, &visit(30.0), None);
+        // rock 2: below, then above 300 kJ in the same cell (its largest visit counts)
+        a.visit(0, 2, 0, &visit(10.0), None);
+        a.visit(0, 2, 0, &visit(301.0), None);
+        let above = |t: &CellTable, cell: usize| t.get(cell).unwrap().hists.as_ref().unwrap().above;
+        assert_eq!(above(&a, 0)[..3], [2, 2, 1]);
+        assert_eq!(above(&a, 1)[..3], [0, 0, 0]);
+        let mut b = CellTable::new(&g, th);
+        b.visit(0, 3, 0, &visit(31.0), None);
+        b.visit(2, 3, 0, &visit(1e4), None);
+        let mut ab = a.clone();
+        ab.merge(b.clone());
+        b.merge(a);
+        assert_eq!(above(&ab, 0)[..3], [3, 2, 1]);
+        assert_eq!(above(&ab, 0), above(&b, 0));
+        assert_eq!(above(&ab, 2)[..3], [1, 1, 1]);
+        // no thresholds: nothing counted
+        let mut none = CellTable::new(&g, Thresholds::of_kj(&[]));
+        none.visit(0, 1, 0, &visit(1e4), None);
+        assert_eq!(above(&none, 0), [0; MAX_ENERGY_THRESHOLDS]);
+    }
+
+    #[test]
     fn a_huge_grid_allocates_blocks_only_where_cells_are_touched() {
         // 10⁸ cells: a slot per cell would be 400 MB; the directory is 2 500 × 2 500 × 4 B.
         let g = GridGeometry {
@@ -428,7 +534,7 @@ mod tests {
             y_min_m: 0.0,
             cell_size_m: 2.0,
         };
-        let mut t = CellTable::new(&g);
+        let mut t = CellTable::new(&g, Thresholds::of_kj(&[]));
         assert_eq!((t.directory.len(), t.blocks_allocated()), (157 * 157, 0));
         let v = CellVisit {
             energy_j: 1.0,
@@ -452,7 +558,7 @@ mod tests {
         assert_eq!(t.get(g.len() - 1).map(|c| c.deposited), Some(1));
         assert!(t.get(g.len()).is_none());
         // merging allocates the other table's blocks in this one, no others
-        let mut merged = CellTable::new(&g);
+        let mut merged = CellTable::new(&g, Thresholds::of_kj(&[]));
         merged.merge(t.clone());
         assert_eq!(merged.blocks_allocated(), 6);
         assert_eq!(merged.get(g.index(63, 5_055)).map(|c| c.reached), Some(1));

@@ -58,6 +58,7 @@ mod summary;
 mod tally;
 mod write;
 
+pub use cells::MAX_ENERGY_THRESHOLDS;
 pub use codec::{DecodeError, Fnv1a};
 pub use convergence::{ConvergenceSummary, MIN_REACH_PCT, MapChange, MapSnapshot};
 pub use distribution::{Bin, Distribution, Quantity};
@@ -72,7 +73,7 @@ pub use persist::{
     write_tally,
 };
 pub use profile::ProfileBin;
-pub use results::{RasterCells, Results, RunInfo};
+pub use results::{RasterCells, Results, RunInfo, rocks_above_name};
 pub use screens::ScreenSet;
 pub use summary::{MeanP95Max, MotionShares, Outcomes, Runout, ScreenSummary, Summary, TimeStats};
 pub use tally::Tally;
@@ -94,6 +95,11 @@ pub struct Layout {
     /// Energy percentiles written as `E_<p>` rasters (e.g. 50, 90, 95, 98, 99); `E_95` and
     /// `Ph_95` are always written.
     pub percentiles: Vec<f64>,
+    /// Energies, kJ, ascending (at most [`MAX_ENERGY_THRESHOLDS`]; more are ignored): each
+    /// cell counts the distinct rocks that passed it with more kinetic energy than each,
+    /// written as `Nr_rocks_above_<e>kJ` rasters, what the hazard frequency
+    /// `λ(x, e) = f · N_pass(x, E > e) / N` needs (`rockfall hazard`, frequency mode).
+    pub energy_thresholds_kj: Vec<f64>,
     /// Rocks with `rock_id < trajectories` have their trajectory recorded.
     pub trajectories: u64,
     /// Keep one [`RockRecord`] per rock (start, outcome, maxima) and write `rocks.csv`.
@@ -149,6 +155,7 @@ impl Layout {
             crs: dem.crs().cloned(),
             screens: scenario.screens.clone(),
             percentiles: scenario.output.percentiles.clone(),
+            energy_thresholds_kj: scenario.output.energy_thresholds_kj.clone(),
             trajectories: scenario.output.trajectories,
             rock_ends: scenario.output.rocks_csv,
             screen_crossings: scenario.output.screen_crossings,

@@ -10,7 +10,8 @@
 //! # Format (version [`TALLY_FORMAT`])
 //!
 //! - 8 bytes magic `RFTALLY` + NUL, `u32` format version, `u64` length of the header, the
-//!   header as JSON: the [`Layout`] (grid, CRS, screens, percentiles, trajectories kept,
+//!   header as JSON: the [`Layout`] (grid, CRS, screens, percentiles, energy thresholds,
+//!   trajectories kept,
 //!   rock records kept), the [`RunInfo`] and the caller's description of the run (`run`:
 //!   what the run was and which rocks it covers; see `rockfall-sim`).
 //! - The body, little-endian: per-rock statistics, screens, speed profile, per-cell
@@ -32,7 +33,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::cells::{CellHists, CellStats};
 use crate::codec::{Dec, DecodeError, Enc, fnv1a};
-use crate::hist::{ENERGY_BINS, SHORT_BINS, Stat};
+use crate::hist::Stat;
 use crate::profile::SpeedHistogram;
 use crate::{
     CrossingRecord, Elevation, Event, Layout, Motion, Outcome, RockEnd, RockRecord, RunInfo,
@@ -40,7 +41,7 @@ use crate::{
 };
 
 /// Version of the tally file format this build reads and writes.
-pub const TALLY_FORMAT: u32 = 5;
+pub const TALLY_FORMAT: u32 = 6;
 
 /// File name of a run folder's exact tallies.
 pub const TALLY_FILE: &str = "rockfall.tally";
@@ -107,6 +108,7 @@ struct LayoutRecord {
     wkt: Option<String>,
     screens: Vec<ScreenRecord>,
     percentiles: Vec<f64>,
+    energy_thresholds_kj: Vec<f64>,
     trajectories: u64,
     rock_ends: bool,
     screen_crossings: bool,
@@ -144,6 +146,7 @@ impl From<&Layout> for LayoutRecord {
                 })
                 .collect(),
             percentiles: l.percentiles.clone(),
+            energy_thresholds_kj: l.energy_thresholds_kj.clone(),
             trajectories: l.trajectories,
             rock_ends: l.rock_ends,
             screen_crossings: l.screen_crossings,
@@ -176,6 +179,7 @@ impl From<LayoutRecord> for Layout {
                 })
                 .collect(),
             percentiles: r.percentiles,
+            energy_thresholds_kj: r.energy_thresholds_kj,
             trajectories: r.trajectories,
             rock_ends: r.rock_ends,
             screen_crossings: r.screen_crossings,
@@ -338,8 +342,9 @@ fn body(e: &mut Enc, t: &Tally) {
     let mut cells: Vec<&CellStats> = t.cells.touched().iter().collect();
     cells.sort_unstable_by_key(|c| c.cell);
     e.len(cells.len());
+    let thresholds = t.cells.thresholds().len();
     for c in cells {
-        cell(e, c);
+        cell(e, c, thresholds);
     }
     let mut rows: Vec<_> = t.rows.iter().collect();
     rows.sort_unstable_by_key(|(rock, seq, _)| (*rock, *seq));
@@ -460,9 +465,10 @@ fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeError> {
     }
     let n = d.len(8)?;
     let len = t.layout().geometry.len();
+    let thresholds = t.cells.thresholds().len();
     let mut cells = Vec::with_capacity(n);
     for _ in 0..n {
-        let c = read_cell(d)?;
+        let c = read_cell(d, thresholds)?;
         if c.cell >= len {
             return Err(d.corrupt(d.pos(), format!("cell {} outside the grid", c.cell)));
         }
@@ -489,7 +495,7 @@ fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeError> {
     Ok(())
 }
 
-fn cell(e: &mut Enc, c: &CellStats) {
+fn cell(e: &mut Enc, c: &CellStats, thresholds: usize) {
     e.len(c.cell);
     for n in [
         c.visits,
@@ -519,6 +525,9 @@ fn cell(e: &mut Enc, c: &CellStats) {
             e.u8(1);
             e.sparse(&h.energy);
             e.sparse(&h.height);
+            for &n in &h.above[..thresholds] {
+                e.u64(n);
+            }
         }
     }
     e.len(c.sources.len());
@@ -527,7 +536,7 @@ fn cell(e: &mut Enc, c: &CellStats) {
     }
 }
 
-fn read_cell(d: &mut Dec<'_>) -> Result<CellStats, DecodeError> {
+fn read_cell(d: &mut Dec<'_>, thresholds: usize) -> Result<CellStats, DecodeError> {
     let at = d.pos();
     let cell = usize::try_from(d.u64()?).map_err(|_| d.corrupt(at, "cell index".into()))?;
     let mut c = CellStats::new(cell);
@@ -554,13 +563,13 @@ fn read_cell(d: &mut Dec<'_>) -> Result<CellStats, DecodeError> {
         *v = d.f64()?;
     }
     if d.u8()? == 1 {
-        let mut h = Box::new(CellHists {
-            energy: [0; ENERGY_BINS],
-            height: [0; SHORT_BINS],
-        });
+        let mut h = CellHists::empty();
         let narrow = |c: u64| u32::try_from(c).ok();
         d.sparse_into(&mut h.energy, narrow)?;
         d.sparse_into(&mut h.height, narrow)?;
+        for n in &mut h.above[..thresholds] {
+            *n = d.u64()?;
+        }
         c.hists = Some(h);
     }
     let n = d.len(4)?;

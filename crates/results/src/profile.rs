@@ -170,6 +170,7 @@ mod tests {
             crs: None,
             screens: Vec::new(),
             percentiles: Vec::new(),
+            energy_thresholds_kj: Vec::new(),
             trajectories: 0,
             rock_ends: false,
             screen_crossings: false,

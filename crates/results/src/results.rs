@@ -48,6 +48,8 @@ pub(crate) enum Kind {
     TreeImpacts,
     TreeHeightMax,
     StemsBroken,
+    /// Distinct rocks that passed with more energy than the layout's `k`-th threshold.
+    RocksAbove(usize),
 }
 
 /// The one-sided 95 % quantile of the standard normal distribution: `E_95CI` and `Ph_95CI`
@@ -71,6 +73,7 @@ impl Kind {
                 | Kind::Sources
                 | Kind::TreeImpacts
                 | Kind::StemsBroken
+                | Kind::RocksAbove(_)
         )
     }
 }
@@ -93,6 +96,11 @@ pub struct Results {
     pub(crate) crossing_records: Vec<CrossingRecord>,
     /// How a convergence-driven run ended (`summary.json` `convergence`).
     pub(crate) convergence: Option<ConvergenceSummary>,
+}
+
+/// `Nr_rocks_above_<e>kJ` raster name: `Nr_rocks_above_30kJ` for 30 kJ.
+pub fn rocks_above_name(e_kj: f64) -> String {
+    format!("Nr_rocks_above_{e_kj}kJ")
 }
 
 /// `E_<p>` raster name: `E_95` for 95, `E_99.5` for 99.5.
@@ -192,13 +200,21 @@ impl Results {
             ("Tree_impact_height_max".into(), Kind::TreeHeightMax),
             ("Nr_stems_broken".into(), Kind::StemsBroken),
         ]);
+        let counted = self.tally.cells.thresholds().len();
+        for (k, &e) in self.layout.energy_thresholds_kj[..counted]
+            .iter()
+            .enumerate()
+        {
+            v.push((rocks_above_name(e), Kind::RocksAbove(k)));
+        }
         v
     }
 
     /// Names of every raster, in writing order: `Nr_passages`, `Reach_probability`,
     /// `Nr_deposited`, `Nr_sourcecells`, `E_mean`, `E_<p>` (ascending, `E_95` always),
     /// `Ph_mean`, `Ph_50`, `Ph_90`, `Ph_95`, `E_95CI`, `Ph_95CI`, `EL_angles`, `V_max`,
-    /// `Nr_tree_impacts`, `Tree_impact_height_max`, `Nr_stems_broken`.
+    /// `Nr_tree_impacts`, `Tree_impact_height_max`, `Nr_stems_broken`, then
+    /// `Nr_rocks_above_<e>kJ` per energy threshold ([`Layout::energy_thresholds_kj`]).
     pub fn raster_names(&self) -> Vec<String> {
         self.kinds().into_iter().map(|(n, _)| n).collect()
     }
@@ -214,7 +230,8 @@ impl Results {
     /// the largest energy-line angle of a visit, from the DEM surface at the centre of the
     /// rock's release cell to the centre of the cell (none within half a cell of the release
     /// point); `V_max` m/s; the others are counts
-    /// (0 where nothing happened). The non-count rasters are nodata where no rock passed (no
+    /// (0 where nothing happened); `Nr_rocks_above_<e>kJ` counts the distinct rocks whose
+    /// kinetic energy in the cell exceeded e kJ. The non-count rasters are nodata where no rock passed (no
     /// tree was hit, for `Tree_impact_height_max`). Percentiles come from log histograms:
     /// within 7.5 % of the exact nearest-rank value (see [`crate::PERCENTILE_RELATIVE_ERROR`]).
     pub fn raster(&self, name: &str) -> Option<Grid<f64>> {
@@ -276,6 +293,11 @@ impl Results {
                 .filter(|c| c.tree_impacts > 0)
                 .map(|c| c.tree_height_max_m),
             Kind::StemsBroken => Some(c.map_or(0, |c| c.stems_broken) as f64),
+            Kind::RocksAbove(k) => Some(
+                visited
+                    .and_then(|c| c.hists.as_ref())
+                    .map_or(0, |h| h.above[k]) as f64,
+            ),
         }
     }
 

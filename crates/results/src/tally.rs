@@ -167,7 +167,10 @@ impl Tally {
     /// An empty tally for a run on `layout`.
     pub fn new(layout: Arc<Layout>) -> Tally {
         Tally {
-            cells: CellTable::new(&layout.geometry),
+            cells: CellTable::new(
+                &layout.geometry,
+                crate::cells::Thresholds::of_kj(&layout.energy_thresholds_kj),
+            ),
             screens: layout.screens.iter().map(ScreenStats::new).collect(),
             rock: RockStats::new(),
             profile: SpeedProfile::new(&layout),

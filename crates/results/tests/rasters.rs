@@ -164,8 +164,15 @@ fn reach_probability_sourcecells_and_nodata_on_a_hand_made_case() {
             "Nr_tree_impacts",
             "Tree_impact_height_max",
             "Nr_stems_broken",
+            "Nr_rocks_above_0.1kJ",
+            "Nr_rocks_above_1kJ",
         ]
     );
+    // distinct rocks above each threshold in cell 7: 4 kJ (twice), 1 kJ and 9 kJ; exactly
+    // 1 kJ is not above 1 kJ
+    assert_eq!(g("Nr_rocks_above_0.1kJ").get_index(7), Some(3.0));
+    assert_eq!(g("Nr_rocks_above_1kJ").get_index(7), Some(2.0));
+    assert_eq!(g("Nr_rocks_above_1kJ").get_index(0), Some(0.0));
     assert!(r.raster("E_97").is_none());
     // the views the report reads and the writers stream give the grids' cells
     for name in r.raster_names() {

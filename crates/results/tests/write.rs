@@ -219,7 +219,8 @@ fn count_rasters_are_integers_in_both_formats() {
         let asc = read_grid(&dir.path().join(format!("{name}.asc"))).unwrap();
         assert_eq!(tif.values(), asc.values(), "{name}");
     }
-    assert_eq!(counts, 5);
+    // five counts, and the rocks above each of the layout's two energy thresholds
+    assert_eq!(counts, 7);
     let passages = std::fs::read_to_string(dir.path().join("Nr_passages.asc")).unwrap();
     assert!(
         passages

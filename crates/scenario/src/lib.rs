@@ -25,8 +25,9 @@ mod validate;
 pub use error::ScenarioError;
 pub use ground::{GroundClass, GroundModel, ScarringGround, ScarringSettings};
 pub use params::{
-    ContactParams, ContactSettings, Engine, LumpedSettings, MohMode, OutputSettings, RigidParams,
-    SimulationSettings, Slippage, TangentialLaw, UNTIL_STABLE_DEFAULT_CAP,
+    ContactParams, ContactSettings, DEFAULT_ENERGY_THRESHOLDS_KJ, Engine, LumpedSettings,
+    MAX_ENERGY_THRESHOLDS, MohMode, OutputSettings, RigidParams, SimulationSettings, Slippage,
+    TangentialLaw, UNTIL_STABLE_DEFAULT_CAP,
 };
 pub use release::{Release, ReleasePoint};
 pub use rock::{BlockShape, RockShape, RockSpec};

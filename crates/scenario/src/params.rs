@@ -412,7 +412,20 @@ pub struct OutputSettings {
     /// Percentiles of energy and passing height written as rasters, % (default 50, 90, 95,
     /// 98, 99).
     pub percentiles: Vec<f64>,
+    /// Kinetic energies, kJ, strictly ascending, at most [`MAX_ENERGY_THRESHOLDS`]: each
+    /// cell counts the distinct rocks that passed it with more energy than each
+    /// (`Nr_rocks_above_<e>kJ` rasters), for hazard frequencies (`rockfall hazard`). Default
+    /// [`DEFAULT_ENERGY_THRESHOLDS_KJ`]: the intensity limits of the Swiss (30, 300 kJ) and
+    /// Austrian (100 kJ) hazard matrices.
+    pub energy_thresholds_kj: Vec<f64>,
 }
+
+/// Most `[output] energy_thresholds_kj` a run counts passages above.
+pub const MAX_ENERGY_THRESHOLDS: usize = 6;
+
+/// Default `[output] energy_thresholds_kj`, kJ: the rockfall intensity limits of the Swiss
+/// matrix (30 and 300 kJ, BUWAL 1997) and the Austrian one (100 kJ, see `rockfall hazard`).
+pub const DEFAULT_ENERGY_THRESHOLDS_KJ: [f64; 3] = [30.0, 100.0, 300.0];
 
 impl Default for OutputSettings {
     fn default() -> Self {
@@ -423,6 +436,7 @@ impl Default for OutputSettings {
             rocks_csv: false,
             screen_crossings: false,
             percentiles: vec![50.0, 90.0, 95.0, 98.0, 99.0],
+            energy_thresholds_kj: DEFAULT_ENERGY_THRESHOLDS_KJ.to_vec(),
         }
     }
 }

@@ -462,6 +462,36 @@ impl Scenario {
                 "strictly between 0 and 100",
             ));
         }
+        self.check_energy_thresholds()
+    }
+
+    /// `[output] energy_thresholds_kj`: finite, > 0, strictly ascending, at most
+    /// [`crate::params::MAX_ENERGY_THRESHOLDS`].
+    fn check_energy_thresholds(&self) -> Result<(), ScenarioError> {
+        let t = &self.output.energy_thresholds_kj;
+        let key = "output.energy_thresholds_kj";
+        if t.len() > crate::params::MAX_ENERGY_THRESHOLDS {
+            return Err(out_of_range(
+                key,
+                None,
+                t.len() as f64,
+                &format!(
+                    "at most {} thresholds",
+                    crate::params::MAX_ENERGY_THRESHOLDS
+                ),
+            ));
+        }
+        if let Some(&e) = t.iter().find(|e| !(e.is_finite() && **e > 0.0)) {
+            return Err(out_of_range(key, None, e, "finite and > 0 kJ"));
+        }
+        if let Some(w) = t.windows(2).find(|w| w[1] <= w[0]) {
+            return Err(out_of_range(
+                key,
+                None,
+                w[1],
+                &format!("strictly above the threshold before it ({} kJ)", w[0]),
+            ));
+        }
         Ok(())
     }
 }

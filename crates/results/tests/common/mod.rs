@@ -39,6 +39,7 @@ pub fn layout() -> Arc<Layout> {
             },
         ],
         percentiles: vec![50.0, 99.5, 95.0],
+        energy_thresholds_kj: vec![0.1, 1.0],
         trajectories: 7,
         rock_ends: false,
         screen_crossings: false,
