@@ -1,7 +1,8 @@
 //! GIS vector layers as inputs: polygons, lines and points from GeoJSON (`.geojson`,
 //! `.json`), ESRI Shapefiles (`.shp` with `.dbf` and `.prj`) and GeoPackages (`.gpkg`,
 //! cargo feature `gpkg`, on by default), read into one small model ([`Layer`]) and burnt
-//! onto the DEM's grid by [`burn`].
+//! onto the DEM's grid by [`burn`]. The other way, [`polygonize`] turns a raster of classes
+//! into dissolved polygons.
 //!
 //! Feature ids are the ones GDAL/OGR gives (its FID): a GeoPackage's primary key, a
 //! Shapefile's record number from 0, a GeoJSON feature's numeric `id` or else its position
@@ -12,10 +13,12 @@ mod geojson;
 #[cfg(feature = "gpkg")]
 mod gpkg;
 pub mod inputs;
+pub mod polygonize;
 mod shp;
 pub mod wkb;
 
 pub use self::geojson::parse_geojson;
+pub use polygonize::polygonize;
 pub use shp::parse_shapefile;
 
 use rockfall_raster::Crs;
