@@ -27,6 +27,10 @@ use std::path::{Path, PathBuf};
 /// A point (x, y) in the layer's CRS, m for the projected CRSs a DEM uses.
 pub type Xy = [f64; 2];
 
+/// A polygon as its rings, each closed (its first point repeated last): the exterior first,
+/// then its holes.
+pub type Polygon = Vec<Vec<Xy>>;
+
 /// A feature's geometry, its multi-form included; Z and M values are dropped.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Geometry {

@@ -10,11 +10,12 @@
 //! exterior, or two holes touching, at that one point.
 //!
 //! **Rings** follow the right-hand rule of OGC 06-103r4 (Simple Features, common
-//! architecture, §6.1.11.1) and ISO 19125-1 as GeoPackage (OGC 12-128r18 §2.1.3.1.1) and GDAL
-//! write them: the exterior counter-clockwise, holes clockwise, each closed (its first point
-//! repeated last), with only its corners as vertices (no collinear vertex along a straight
-//! run). Every ring is simple and rings meet at single points only, so every polygon is valid
-//! by OGC 06-103r4 §6.1.11.1 (which allows rings touching at a point).
+//! architecture, §6.1.11.1; ISO 19125-1), the standard whose well-known binary a GeoPackage
+//! stores (OGC 12-128r18 §2.1.3), as GDAL writes them: the exterior counter-clockwise and
+//! holes clockwise (x east, y north), each closed (its first point repeated last), with only
+//! its corners as vertices (no collinear vertex along a straight run). Every ring is simple
+//! and rings meet at single points only, so every polygon is valid by §6.1.11.1 of that
+//! standard, which allows rings touching at a point.
 //!
 //! **Method.** One flood fill labels the 4-connected components; then every cell edge
 //! between a component and anything else is a directed edge with the component on its left,
@@ -27,7 +28,7 @@
 //! faces the outside, so it is the exterior and the component's later rings are its holes.
 //! Time and memory are linear in the number of cells (5 bytes a cell besides the input).
 
-use super::Xy;
+use super::{Polygon, Xy};
 use rockfall_raster::GridGeometry;
 
 /// Headings of a directed edge, counter-clockwise from east: a left turn adds 1 (mod 4).
@@ -44,7 +45,7 @@ const SOUTH: u8 = 3;
 /// Cells beyond the end of `values` count as 0 and values beyond the grid are ignored; a grid
 /// of no cells, of 2³² cells or more, or whose cell size is not a positive finite number
 /// gives no polygons.
-pub fn polygonize(values: &[u8], grid: &GridGeometry) -> Vec<(u8, Vec<Vec<Vec<Xy>>>)> {
+pub fn polygonize(values: &[u8], grid: &GridGeometry) -> Vec<(u8, Vec<Polygon>)> {
     let Some(cells) = Cells::new(values, grid) else {
         return Vec::new();
     };
@@ -55,7 +56,7 @@ pub fn polygonize(values: &[u8], grid: &GridGeometry) -> Vec<(u8, Vec<Vec<Vec<Xy
         nrows: cells.nrows,
         labels: &labels,
     };
-    let mut polygons: Vec<Vec<Vec<Xy>>> = vec![Vec::new(); component_values.len()];
+    let mut polygons: Vec<Polygon> = vec![Vec::new(); component_values.len()];
     let mut visited = vec![0u8; labels.len()];
     for (index, &label) in labels.iter().enumerate() {
         if label == 0 {
@@ -78,7 +79,7 @@ pub fn polygonize(values: &[u8], grid: &GridGeometry) -> Vec<(u8, Vec<Vec<Vec<Xy
             }
         }
     }
-    let mut by_value: Vec<Vec<Vec<Vec<Xy>>>> = vec![Vec::new(); 256];
+    let mut by_value: Vec<Vec<Polygon>> = vec![Vec::new(); 256];
     for (polygon, value) in polygons.into_iter().zip(component_values) {
         by_value[usize::from(value)].push(polygon);
     }
