@@ -1,7 +1,7 @@
 //! GIS vector layers as inputs: polygons, lines and points from GeoJSON (`.geojson`,
 //! `.json`), ESRI Shapefiles (`.shp` with `.dbf` and `.prj`) and GeoPackages (`.gpkg`,
 //! cargo feature `gpkg`, on by default), read into one small model ([`Layer`]) and burnt
-//! onto the DEM's grid by [`burn`]. The other way, [`polygonize`] turns a raster of classes
+//! onto the DEM's grid by [`burn`]. The other way, [`polygonize()`] turns a raster of classes
 //! into dissolved polygons and [`write_gpkg_polygons`] writes them as a GeoPackage layer.
 //!
 //! Feature ids are the ones GDAL/OGR gives (its FID): a GeoPackage's primary key, a
@@ -221,7 +221,7 @@ pub enum FieldType {
 /// built beside the target and renamed over it only when complete.
 ///
 /// Each feature is a MultiPolygon (its polygons, each its rings, the exterior first: written
-/// as given, so counter-clockwise exteriors and clockwise holes as [`polygonize`] makes them
+/// as given, so counter-clockwise exteriors and clockwise holes as [`polygonize()`] makes them
 /// and OGC 06-103r4 §6.1.11.1 wants) and its values of `fields` in order, [`Value::Null`]
 /// allowed for any. Features get the ids (`fid`) 1, 2, … in order. The layer's CRS is
 /// recorded by its EPSG code when it has one (with the WKT we ship for it), else by its WKT;
