@@ -1,7 +1,8 @@
 //! GIS vector layers as inputs: polygons, lines and points from GeoJSON (`.geojson`,
 //! `.json`), ESRI Shapefiles (`.shp` with `.dbf` and `.prj`) and GeoPackages (`.gpkg`,
 //! cargo feature `gpkg`, on by default), read into one small model ([`Layer`]) and burnt
-//! onto the DEM's grid by [`burn`].
+//! onto the DEM's grid by [`burn`]. The other way, [`polygonize()`] turns a raster of classes
+//! into dissolved polygons and [`write_gpkg_polygons`] writes them as a GeoPackage layer.
 //!
 //! Feature ids are the ones GDAL/OGR gives (its FID): a GeoPackage's primary key, a
 //! Shapefile's record number from 0, a GeoJSON feature's numeric `id` or else its position
@@ -11,11 +12,15 @@ pub mod burn;
 mod geojson;
 #[cfg(feature = "gpkg")]
 mod gpkg;
+#[cfg(feature = "gpkg")]
+mod gpkg_write;
 pub mod inputs;
+pub mod polygonize;
 mod shp;
 pub mod wkb;
 
 pub use self::geojson::parse_geojson;
+pub use polygonize::polygonize;
 pub use shp::parse_shapefile;
 
 use rockfall_raster::Crs;
@@ -23,6 +28,10 @@ use std::path::{Path, PathBuf};
 
 /// A point (x, y) in the layer's CRS, m for the projected CRSs a DEM uses.
 pub type Xy = [f64; 2];
+
+/// A polygon as its rings, each closed (its first point repeated last): the exterior first,
+/// then its holes.
+pub type Polygon = Vec<Vec<Xy>>;
 
 /// A feature's geometry, its multi-form included; Z and M values are dropped.
 #[derive(Debug, Clone, PartialEq)]
@@ -196,6 +205,56 @@ pub fn read_layer(path: &Path, layer: Option<&str>) -> Result<Layer, VectorError
     }
 }
 
+/// The SQL type of an attribute column of a layer we write.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FieldType {
+    /// Whole numbers (SQLite `INTEGER`, OGR's Integer64): [`Value::Num`] without a fraction.
+    Integer,
+    /// Numbers (`REAL`): a finite [`Value::Num`].
+    Real,
+    /// Text (`TEXT`): [`Value::Text`].
+    Text,
+}
+
+/// Writes polygons as the one layer `layer` of a new GeoPackage at `path` (OGC 12-128r18,
+/// GeoPackage 1.3; cargo feature `gpkg`), replacing any file there, atomically: the file is
+/// built beside the target and renamed over it only when complete.
+///
+/// Each feature is a MultiPolygon (its polygons, each its rings, the exterior first: written
+/// as given, so counter-clockwise exteriors and clockwise holes as [`polygonize()`] makes them
+/// and OGC 06-103r4 §6.1.11.1 wants) and its values of `fields` in order, [`Value::Null`]
+/// allowed for any. Features get the ids (`fid`) 1, 2, … in order. The layer's CRS is
+/// recorded by its EPSG code when it has one (with the WKT we ship for it), else by its WKT;
+/// without a CRS the layer is in GeoPackage's undefined Cartesian system (−1). See
+/// `gpkg_write.rs` for the tables written. GDAL (`ogrinfo`), QGIS and [`read_layer`] read the
+/// file.
+///
+/// Errors name the file, the layer and, where one is at fault, the feature's id: a layer or
+/// field name that is empty, reserved (`gpkg_`, `sqlite_`, `rtree_`, a field `fid` or
+/// `geom`) or repeated; a value of the wrong type or count; a polygon without rings, a ring
+/// of fewer than 4 points, not closed or with a coordinate that is not finite; a file that
+/// cannot be written. Without the `gpkg` feature every call is an error saying so.
+pub fn write_gpkg_polygons(
+    path: &Path,
+    layer: &str,
+    crs: Option<&Crs>,
+    fields: &[(&str, FieldType)],
+    features: &[(Vec<Polygon>, Vec<Value>)],
+) -> Result<(), VectorError> {
+    #[cfg(feature = "gpkg")]
+    return gpkg_write::write(path, layer, crs, fields, features);
+    #[cfg(not(feature = "gpkg"))]
+    {
+        let _ = (crs, fields, features);
+        Err(VectorError {
+            path: path.to_path_buf(),
+            layer: Some(layer.to_string()),
+            feature: None,
+            message: "this build has no GeoPackage support (cargo feature `gpkg`): rebuild with default features".into(),
+        })
+    }
+}
+
 /// True when two CRSs are the same as far as we can tell: equal EPSG codes, else equal WKT
 /// once spaces are ignored.
 pub fn same_crs(a: &Crs, b: &Crs) -> bool {
@@ -222,4 +281,17 @@ pub(crate) fn epsg_of_name(name: &str) -> Option<u32> {
         return None;
     }
     upper.rsplit(':').next()?.trim().parse().ok()
+}
+
+#[cfg(all(test, not(feature = "gpkg")))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn without_the_feature_writing_a_geopackage_is_refused() {
+        let path = Path::new("never_written.gpkg");
+        let e = write_gpkg_polygons(path, "zones", None, &[], &[]);
+        assert!(e.is_err_and(|e| e.message.contains("cargo feature `gpkg`")));
+        assert!(!path.exists());
+    }
 }

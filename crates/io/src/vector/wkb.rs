@@ -4,8 +4,10 @@
 //! before anything is allocated, so no input can make it panic or allocate more than the blob
 //! holds. Ours rather than a crate's: about 150 lines with our own error messages, no
 //! geometry-type conversion layer, and fuzzed (`fuzz/fuzz_targets/wkb.rs`).
+//!
+//! Written: MultiPolygons only ([`encode_gpkg_multipolygon`]), for the GeoPackage writer.
 
-use super::{Geometry, Xy};
+use super::{Geometry, Polygon, Xy};
 
 /// A GeoPackage geometry blob → its geometry and the header's `srs_id`.
 pub fn decode_gpkg_geometry(blob: &[u8]) -> Result<(Geometry, i32), String> {
@@ -44,6 +46,53 @@ pub fn decode_wkb(bytes: &[u8]) -> Result<Geometry, String> {
         return Err(format!("{} bytes after the geometry", bytes.len() - r.pos));
     }
     Ok(g)
+}
+
+/// A MultiPolygon (`polygons`, each its rings, the exterior first) as a GeoPackage geometry
+/// blob (OGC 12-128r18 §2.1.3, standard GeoPackageBinary version 0): the header, little
+/// endian, with `srs_id` and the xy envelope [min x, max x, min y, max y] (envelope code 1),
+/// then little-endian ISO WKB of type 6 (OGC 06-103r4 §8.2). With no polygon the header has
+/// the empty flag and no envelope, followed by a MultiPolygon of no part. Coordinates are
+/// written as given, rings unchecked; an error only when a count exceeds WKB's 32 bits.
+pub fn encode_gpkg_multipolygon(polygons: &[Polygon], srs_id: i32) -> Result<Vec<u8>, String> {
+    let count =
+        |n: usize| u32::try_from(n).map_err(|_| format!("{n} items exceed WKB's 32-bit counts"));
+    let points: usize = polygons.iter().flatten().map(Vec::len).sum();
+    let mut b = Vec::with_capacity(48 + 9 + 9 * polygons.len() + 4 * points + 16 * points);
+    b.extend_from_slice(b"GP\0");
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in polygons.iter().flatten().flatten() {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    if points == 0 {
+        b.push(0b0001_0001); // empty, no envelope, little endian
+        b.extend_from_slice(&srs_id.to_le_bytes());
+    } else {
+        b.push(0b0000_0011); // envelope code 1 (xy), little endian
+        b.extend_from_slice(&srs_id.to_le_bytes());
+        for v in [lo[0], hi[0], lo[1], hi[1]] {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    b.push(1);
+    b.extend_from_slice(&6u32.to_le_bytes());
+    b.extend_from_slice(&count(polygons.len())?.to_le_bytes());
+    for polygon in polygons {
+        b.push(1);
+        b.extend_from_slice(&3u32.to_le_bytes());
+        b.extend_from_slice(&count(polygon.len())?.to_le_bytes());
+        for ring in polygon {
+            b.extend_from_slice(&count(ring.len())?.to_le_bytes());
+            for p in ring {
+                b.extend_from_slice(&p[0].to_le_bytes());
+                b.extend_from_slice(&p[1].to_le_bytes());
+            }
+        }
+    }
+    Ok(b)
 }
 
 /// Nesting deeper than this (collections of collections…) is refused.
@@ -282,6 +331,25 @@ mod tests {
         let mut trailing = full.clone();
         trailing.push(0);
         assert!(decode_wkb(&trailing).is_err());
+    }
+
+    #[test]
+    fn encoded_multipolygons_decode_to_themselves_with_their_envelope() {
+        let square = |x: f64| vec![[x, 0.0], [x + 1.0, 0.0], [x + 1.0, 1.0], [x, 1.0], [x, 0.0]];
+        let hole = vec![[0.25, 0.25], [0.25, 0.75], [0.75, 0.75], [0.25, 0.25]];
+        let polygons = vec![vec![square(0.0), hole], vec![square(-3.0)]];
+        let blob = encode_gpkg_multipolygon(&polygons, 2056).unwrap();
+        assert_eq!(&blob[..4], b"GP\0\x03");
+        let envelope: Vec<f64> = (0..4)
+            .map(|k| f64::from_le_bytes(blob[8 + 8 * k..16 + 8 * k].try_into().unwrap()))
+            .collect();
+        assert_eq!(envelope, [-3.0, 1.0, 0.0, 1.0]);
+        assert_eq!(blob[40..45], [1, 6, 0, 0, 0]);
+        let (g, srs) = decode_gpkg_geometry(&blob).unwrap();
+        assert_eq!((g, srs), (Geometry::Polygons(polygons), 2056));
+        let empty = encode_gpkg_multipolygon(&[], -1).unwrap();
+        assert_eq!(empty[3], 0b0001_0001);
+        assert_eq!(decode_gpkg_geometry(&empty).unwrap(), (Geometry::Empty, -1));
     }
 
     proptest::proptest! {
