@@ -217,6 +217,41 @@ pub enum Command {
         #[arg(long, default_value = "rockfall-shape-study")]
         out: PathBuf,
     },
+    /// Draw the hazard zone map: each cell's intensity (block kinetic energy, kJ) crossed with
+    /// the probability of its events (return period, years) by a national matrix. FILE
+    /// (TOML) names `matrix` ("swiss", "austria" or a matrix file), `intensity` (the energy
+    /// raster, default "E_95") and `[[scenario]]` entries: in scenario mode each with
+    /// `return_period_years` and `scenario = "<scenario file>"` (run into OUT/runs/<label>
+    /// unless already finished there; `volume_m3`, `mass_kg` or `block_percentile` set its
+    /// design block) or `run = "<finished run folder>"`; in frequency mode each with
+    /// `frequency_per_year`, the release's onset frequency, and the return period of a block
+    /// above each intensity limit follows per cell from the run's passage counts. Writes
+    /// Hazard_level.tif (0 none, 1 residual, 2 low, 3 medium, 4 high; styled by its .qml),
+    /// Hazard_field.tif (matrix field 1–9), Intensity_class*.tif, Return_period_class*.tif,
+    /// hazard_zones.gpkg (polygons per level and field with their areas), hazard.json,
+    /// hazard.html and hazard.qgs. See docs/hazard.md.
+    Hazard {
+        /// Hazard file (TOML); paths in it are relative to it.
+        file: PathBuf,
+        /// The matrix, replacing the file's: swiss, austria or a matrix file (TOML).
+        #[arg(long)]
+        matrix: Option<String>,
+        /// Rocks per source cell of every scenario run (default: each scenario's).
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        rocks_per_cell: Option<u64>,
+        /// Seed of every scenario run (default: each scenario's).
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Worker threads (≥ 1); default: all cores. Results do not depend on it.
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        threads: Option<u64>,
+        /// Run every scenario again, even where OUT/runs holds its finished run.
+        #[arg(long)]
+        rerun: bool,
+        /// Output folder (created if needed); scenario runs go into OUT/runs/<label>.
+        #[arg(long, default_value = "rockfall-hazard")]
+        out: PathBuf,
+    },
     /// Fit a scenario's free parameters to what the slope shows. TARGETS (TOML) names the
     /// free keys (`[[parameter]] key = "lumped.roughness_tilt_factor"`, `range = [lo, hi]`,
     /// or `scale = [lo, hi]` to multiply a map or constant) and the observations

@@ -175,6 +175,25 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             };
             validate::validate(&flags, &out)
         }
+        Command::Hazard {
+            file,
+            matrix,
+            rocks_per_cell,
+            seed,
+            threads,
+            rerun,
+            out,
+        } => {
+            let flags = crate::hazard::HazardFlags {
+                file,
+                matrix,
+                rocks_per_cell,
+                seed,
+                threads,
+                rerun,
+            };
+            crate::hazard::hazard(&flags, &out)
+        }
         Command::Calibrate {
             scenario,
             targets,
@@ -204,7 +223,8 @@ fn output_folder(command: &Command) -> Option<&Path> {
         | Command::ImpactLab { out, .. }
         | Command::ShapeStudy { out, .. }
         | Command::Validate { out, .. }
-        | Command::Calibrate { out, .. } => Some(out),
+        | Command::Calibrate { out, .. }
+        | Command::Hazard { out, .. } => Some(out),
         // `site` refuses any existing folder that is not empty, files included
         Command::Site { .. } | Command::Check { .. } => None,
     }

@@ -4,6 +4,7 @@
 mod args;
 mod calibrate;
 mod commands;
+mod hazard;
 mod lab;
 #[cfg(feature = "mpi")]
 mod mpi_run;

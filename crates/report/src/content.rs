@@ -51,6 +51,7 @@ pub(crate) fn page(
         parameters,
         numbers,
         files: files_table(out, files, &crs_text, named),
+        html_sections: Vec::new(),
     }
 }
 

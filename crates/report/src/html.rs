@@ -61,6 +61,9 @@ pub struct Page {
     pub numbers: Rows,
     /// Files of the output folder: (name, what it is).
     pub files: Rows,
+    /// Sections of ready-made HTML shown after the headline figures: (anchor id, heading,
+    /// HTML body; the caller escapes its text).
+    pub html_sections: Vec<(String, String, String)>,
 }
 
 /// `&`, `<`, `>`, `"` and `'` escaped for HTML text and attributes.
@@ -128,6 +131,14 @@ pub fn render(page: &Page) -> Result<String, ReportError> {
     h.push_str("<main>\n");
     section_rows(&mut h, "run", "What was run", &page.run);
     glance(&mut h, page);
+    for (id, title, body) in &page.html_sections {
+        let _ = write!(
+            h,
+            "<section id=\"{}\">\n<h2>{}</h2>\n{body}\n</section>\n",
+            escape(id),
+            escape(title)
+        );
+    }
     for s in &page.sections {
         figures(&mut h, s)?;
     }
@@ -156,6 +167,9 @@ fn nav(h: &mut String, page: &Page) {
     };
     link("run", "What was run");
     link("glance", "Results");
+    for (id, title, _) in &page.html_sections {
+        link(id, title);
+    }
     for s in &page.sections {
         link(&s.id, &s.title);
     }

@@ -28,13 +28,14 @@ mod error;
 pub mod figure;
 pub mod geojson;
 mod gis;
+mod hazard;
 pub mod hillshade;
 pub mod html;
 pub mod layers;
 pub mod maps;
 pub mod plots;
 pub mod profiles;
-mod project;
+pub mod project;
 pub mod qml;
 mod run;
 mod sections;
@@ -49,6 +50,7 @@ use rockfall_scenario::Scenario;
 
 pub use error::ReportError;
 pub use figure::Figure;
+pub use hazard::{HazardReport, LegendEntry, MatrixCell, MatrixTable, write_hazard_report};
 pub use run::write_run;
 
 use crate::maps::MapBase;

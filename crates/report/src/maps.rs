@@ -203,6 +203,21 @@ impl MapBase {
         best
     }
 
+    /// The largest finite value of `grid` among the cells a pixel centred at `(x_m, y_m)`
+    /// covers (classes: the highest class wins a pixel); `None` where none.
+    pub fn largest(&self, grid: &impl RasterView, x_m: f64, y_m: f64) -> Option<f64> {
+        let ([r0, r1], [c0, c1]) = self.footprint(x_m, y_m)?;
+        let mut best: Option<f64> = None;
+        for r in r0..=r1 {
+            for c in c0..=c1 {
+                if let Some(v) = grid.cell(r, c).filter(|v| v.is_finite()) {
+                    best = Some(best.map_or(v, |b| b.max(v)));
+                }
+            }
+        }
+        best
+    }
+
     /// The colour of a pixel of the map of `grid`: the layer's colour over the hillshade where
     /// it shows a value, the hillshade elsewhere, `None` off the DEM.
     pub fn pixel(

@@ -31,6 +31,8 @@ struct MapLayer {
     provider: &'static str,
     /// `<pipe>` of a raster, the geometry type of a vector.
     body: String,
+    /// A vector's `<renderer-v2>` element (empty: QGIS's default symbol).
+    renderer: String,
     checked: bool,
 }
 
@@ -51,6 +53,7 @@ pub(crate) fn write_project(
                 kind: "vector",
                 provider: "ogr",
                 body: geometry.into(),
+                renderer: String::new(),
                 checked: true,
             });
         }
@@ -65,6 +68,7 @@ pub(crate) fn write_project(
                 kind: "raster",
                 provider: "gdal",
                 body: pipe.clone(),
+                renderer: String::new(),
                 checked: SHOWN.contains(&name.as_str()),
             });
         }
@@ -77,6 +81,7 @@ pub(crate) fn write_project(
             kind: "raster",
             provider: "gdal",
             body: HILLSHADE.into(),
+            renderer: String::new(),
             checked: true,
         });
     }
@@ -85,6 +90,73 @@ pub(crate) fn write_project(
     let path = out.join(PROJECT_FILE);
     rockfall_raster::atomic::write_bytes_atomic(&path, text.as_bytes())?;
     Ok(path)
+}
+
+/// A layer of a project written by [`write_layers_project`].
+#[derive(Debug, Clone)]
+pub struct ProjectLayer {
+    /// Its name in the layer tree.
+    pub name: String,
+    /// Its data source, relative to the project (`./Hazard_level.tif`,
+    /// `./hazard_zones.gpkg|layername=hazard_zones`).
+    pub source: String,
+    /// A raster's `<pipe>` element (its renderer), or a vector's `<renderer-v2>` element.
+    pub style: String,
+    /// `Some(geometry)` (`Polygon`, `Line`, `Point`) for a vector layer, `None` for a raster.
+    pub vector: Option<&'static str>,
+    /// Shown when the project opens.
+    pub checked: bool,
+}
+
+/// Writes a QGIS project at `path` showing `layers` (first on top) over the extent of `g`
+/// in `crs`, with a hillshade of the DEM file `dem` at the bottom when given.
+pub fn write_layers_project(
+    path: &Path,
+    title: &str,
+    g: &GridGeometry,
+    crs: Option<&Crs>,
+    layers: &[ProjectLayer],
+    dem: Option<&Path>,
+) -> Result<PathBuf, ReportError> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut all: Vec<MapLayer> = (layers.iter())
+        .map(|l| MapLayer {
+            id: layer_id(&l.name),
+            name: l.name.clone(),
+            source: l.source.clone(),
+            kind: if l.vector.is_some() {
+                "vector"
+            } else {
+                "raster"
+            },
+            provider: if l.vector.is_some() { "ogr" } else { "gdal" },
+            body: match l.vector {
+                Some(geometry) => geometry.into(),
+                None => l.style.clone(),
+            },
+            renderer: if l.vector.is_some() {
+                l.style.clone()
+            } else {
+                String::new()
+            },
+            checked: l.checked,
+        })
+        .collect();
+    if let Some(dem) = dem.filter(|p| p.is_file()) {
+        all.push(MapLayer {
+            id: layer_id("hillshade"),
+            name: "Hillshade (DEM)".into(),
+            source: relative_to(dir, dem),
+            kind: "raster",
+            provider: "gdal",
+            body: HILLSHADE.into(),
+            renderer: String::new(),
+            checked: true,
+        });
+    }
+    let text = project(title, g, crs, &all);
+    rockfall_raster::atomic::write_bytes_atomic(path, text.as_bytes())?;
+    Ok(path.to_path_buf())
 }
 
 /// QGIS's hillshade renderer (sun from the north-west at 45°, as the report's relief).
@@ -192,6 +264,8 @@ fn project(title: &str, g: &GridGeometry, crs: Option<&Crs>, layers: &[MapLayer]
         let _ = writeln!(s, "      <provider>{}</provider>", l.provider);
         if l.kind == "raster" {
             s += &l.body;
+        } else {
+            s += &l.renderer;
         }
         let _ = writeln!(s, "      <blendMode>0</blendMode>");
         let _ = writeln!(s, "    </maplayer>");
@@ -239,6 +313,7 @@ mod tests {
             kind: "raster",
             provider: "gdal",
             body: HILLSHADE.into(),
+            renderer: String::new(),
             checked: true,
         }];
         let text = project("a & b", &g, Some(&Crs::from_epsg(2154)), &layers);

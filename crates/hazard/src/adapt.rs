@@ -1,0 +1,49 @@
+//! A hazard scenario's changes to the scenario it runs: the design block of its return
+//! period, and the energy thresholds the matrix needs counted.
+
+use rockfall_raster::Field;
+use rockfall_scenario::{MAX_ENERGY_THRESHOLDS, Scenario};
+
+use crate::hazard_file::Block;
+use crate::matrix::Matrix;
+
+/// The entry's design block in place of the scenario's.
+pub fn set_block(s: &mut Scenario, b: &Block) -> Result<(), (&'static str, String)> {
+    if let Some(v) = b.volume_m3 {
+        s.rock.volume_m3 = Some(v);
+    }
+    if let Some(m) = b.mass_kg {
+        match s.rock.density_kg_m3 {
+            Field::Const(rho) => s.rock.volume_m3 = Some(m / rho),
+            _ => {
+                return Err((
+                    "mass_kg",
+                    "the scenario's density varies per cell: give volume_m3".into(),
+                ));
+            }
+        }
+    }
+    if b.percentile.is_some() {
+        return Err((
+            "block_percentile",
+            "the scenario has no [rock] volume_distribution to take a percentile of".into(),
+        ));
+    }
+    if b.volume_m3.is_some() || b.mass_kg.is_some() {
+        s.rock.volume_variation_percent = 0.0;
+    }
+    Ok(())
+}
+
+/// Makes the run count rocks above every intensity limit of `matrix` (kept first when more
+/// than [`MAX_ENERGY_THRESHOLDS`] would be counted).
+pub fn add_thresholds(s: &mut Scenario, matrix: &Matrix) {
+    let mut t = matrix.intensity_thresholds_kj.clone();
+    for &e in &s.output.energy_thresholds_kj {
+        if t.len() < MAX_ENERGY_THRESHOLDS && !t.contains(&e) {
+            t.push(e);
+        }
+    }
+    t.sort_by(f64::total_cmp);
+    s.output.energy_thresholds_kj = t;
+}
