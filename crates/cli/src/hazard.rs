@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::anyhow;
-use rockfall_hazard::hazard_file::ScenarioEntry;
+use rockfall_hazard::runner::{Prepared, is_finished, prepare, record, run_dir};
 use rockfall_hazard::{HazardError, HazardMap, HazardSpec, Source};
 use rockfall_raster::Grid;
 use rockfall_sim::{Overrides, Simulation};
@@ -29,9 +29,6 @@ pub struct HazardFlags {
     pub rerun: bool,
 }
 
-/// The record beside a run the hazard command made, telling whether it can be reused.
-const RUN_RECORD: &str = "hazard_run.json";
-
 fn hazard_failure(e: HazardError) -> Failure {
     Failure::of(e.is_bad_input(), e)
 }
@@ -49,134 +46,72 @@ pub fn hazard(flags: &HazardFlags, out: &Path) -> Result<(), Failure> {
     };
     // every scenario is read and checked before anything runs
     let mut sims = Vec::new();
-    for (i, entry) in spec.scenarios.iter().enumerate() {
-        sims.push(match &entry.source {
-            Source::Run(_) => None,
-            Source::Scenario(_) | Source::Site(_) => Some(prepare(&spec, i, entry, &overrides)?),
+    for i in 0..spec.scenarios.len() {
+        sims.push(match prepare(&spec, i).map_err(hazard_failure)? {
+            None => None,
+            Some(p) => {
+                let what = PathBuf::from(&p.what);
+                let sim = Simulation::new(p.scenario.clone(), &overrides)
+                    .map_err(|e| simulate::sim_failure(e, p.file.as_deref().unwrap_or(&what)))?;
+                Some((p, sim))
+            }
         });
     }
     let mut dirs = Vec::new();
-    let mut dem: Option<(Grid<f64>, Option<PathBuf>)> = None;
-    for (entry, sim) in spec.scenarios.iter().zip(sims) {
-        match (&entry.source, sim) {
+    let mut relief: Option<(Grid<f64>, Option<PathBuf>)> = None;
+    for (entry, prepared) in spec.scenarios.iter().zip(sims) {
+        match (&entry.source, prepared) {
             (Source::Run(dir), _) => dirs.push(dir.clone()),
-            (Source::Scenario(_) | Source::Site(_), Some(sim)) => {
-                if dem.is_none() {
+            (_, Some((p, sim))) => {
+                if relief.is_none() {
                     let s = sim.scenario();
                     let file = s.source_of("dem").map(Path::to_path_buf);
-                    dem = Some((s.terrain.dem.shared_grid().as_ref().clone(), file));
+                    relief = Some((s.terrain.dem.shared_grid().as_ref().clone(), file));
                 }
-                dirs.push(run_scenario(out, entry, &sim, flags.rerun)?);
+                dirs.push(run_scenario(out, &entry.label, &p, &sim, flags.rerun)?);
             }
-            (_, None) => unreachable!("every scenario and site was prepared"),
+            (_, None) => return Err(Failure::Internal(anyhow!("{}: not prepared", entry.label))),
         }
     }
     let refs: Vec<&Path> = dirs.iter().map(PathBuf::as_path).collect();
     let map = rockfall_hazard::build(&spec, &refs).map_err(hazard_failure)?;
+    std::fs::create_dir_all(out)
+        .map_err(|e| Failure::Internal(anyhow!("{}: {e}", out.display())))?;
     let relief = rockfall_hazard::Relief {
-        dem: dem.as_ref().map(|(g, _)| g),
-        file: dem.as_ref().and_then(|(_, f)| f.as_deref()),
+        dem: relief.as_ref().map(|(g, _)| g),
+        file: relief.as_ref().and_then(|(_, f)| f.as_deref()),
     };
-    let files = write_outputs(out, &spec, &map, relief, start)?;
+    let files =
+        rockfall_hazard::write_all(out, &spec, &map, relief, start).map_err(hazard_failure)?;
     print_areas(&spec, &map, out, &files);
     Ok(())
 }
 
-/// Reads scenario entry `i` and applies the entry's block, rocks and the energy thresholds
-/// the matrix needs; every problem is bad input naming the hazard file's key.
-fn prepare(
-    spec: &HazardSpec,
-    i: usize,
-    entry: &ScenarioEntry,
-    overrides: &Overrides,
-) -> Result<Simulation, Failure> {
-    let key = |k: &str| format!("{}: scenario[{}].{k}", spec.path.display(), i + 1);
-    let (mut scenario, path) = match &entry.source {
-        Source::Scenario(path) if !path.exists() => {
-            return Err(Failure::BadInput(anyhow!(
-                "{}: {} not found",
-                key("scenario"),
-                path.display()
-            )));
-        }
-        Source::Scenario(path) => (rockfall_io::load(path)?, path.clone()),
-        Source::Site(name) => {
-            let s = rockfall_sites::build(name).map_err(|e| match e {
-                rockfall_sites::SiteError::Unknown(_) => {
-                    Failure::BadInput(anyhow!("{}: {e}", key("site")))
-                }
-                other => Failure::Internal(other.into()),
-            })?;
-            (s, PathBuf::from(format!("built-in site {name}")))
-        }
-        Source::Run(_) => unreachable!("a run folder is not prepared"),
-    };
-    rockfall_hazard::adapt::set_block(&mut scenario, &entry.block)
-        .map_err(|(k, m)| Failure::BadInput(anyhow!("{}: {m}", key(k))))?;
-    rockfall_hazard::adapt::add_thresholds(&mut scenario, &spec.matrix);
-    let mut o = overrides.clone();
-    if o.rocks_per_cell.is_none() {
-        o.rocks_per_cell = entry.rocks_per_cell;
-    }
-    Simulation::new(scenario, &o).map_err(|e| simulate::sim_failure(e, &path))
-}
-
-/// Runs scenario entry `entry` into `out/runs/<label>`, unless that folder already holds a
+/// Runs a prepared scenario into `out/runs/<label>`, unless that folder already holds a
 /// finished run of the same scenario (same fingerprint); returns the run folder.
 fn run_scenario(
     out: &Path,
-    entry: &ScenarioEntry,
+    label: &str,
+    p: &Prepared,
     sim: &Simulation,
     rerun: bool,
 ) -> Result<PathBuf, Failure> {
-    let dir = out
-        .join("runs")
-        .join(rockfall_hazard::outputs::file_label(&entry.label));
+    let dir = run_dir(out, label);
     let fingerprint = rockfall_sim::share::fingerprint(sim.scenario());
-    let record = dir.join(RUN_RECORD);
-    let finished = std::fs::read_to_string(&record)
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .is_some_and(|v| v["fingerprint"] == fingerprint.as_str())
-        && dir.join("summary.json").is_file();
-    if finished && !rerun {
+    if is_finished(&dir, &fingerprint) && !rerun {
         println!(
-            "{}: reusing the finished run in {} (--rerun to run it again)",
-            entry.label,
+            "{label}: reusing the finished run in {} (--rerun to run it again)",
             dir.display()
         );
         return Ok(dir);
     }
+    println!("{label}: running {}", p.what);
+    let results = simulate::simulate(sim, true, label)?;
     let scenario = sim.scenario();
-    let what = match &entry.source {
-        Source::Scenario(p) => p.display().to_string(),
-        Source::Site(name) => format!("built-in site {name}"),
-        Source::Run(p) => p.display().to_string(),
-    };
-    println!("{}: running {what}", entry.label);
-    let results = simulate::simulate(sim, true, &entry.label)?;
-    let ctx = simulate::Context::new(scenario, sim.stems(), what.clone());
+    let ctx = simulate::Context::new(scenario, sim.stems(), p.what.clone());
     simulate::write(&results, &dir, scenario.output.ascii_rasters, &ctx)?;
-    let text = serde_json::json!({
-        "label": entry.label,
-        "scenario": what,
-        "fingerprint": fingerprint,
-    });
-    rockfall_raster::atomic::write_bytes_atomic(&record, format!("{text:#}\n").as_bytes())
-        .map_err(|(p, e)| Failure::Internal(anyhow!("{}: {e}", p.display())))?;
+    record(&dir, label, &p.what, &fingerprint).map_err(hazard_failure)?;
     Ok(dir)
-}
-
-fn write_outputs(
-    out: &Path,
-    spec: &HazardSpec,
-    map: &HazardMap,
-    relief: rockfall_hazard::Relief<'_>,
-    start: Instant,
-) -> Result<Vec<PathBuf>, Failure> {
-    std::fs::create_dir_all(out)
-        .map_err(|e| Failure::Internal(anyhow!("{}: {e}", out.display())))?;
-    rockfall_hazard::write_all(out, spec, map, relief, start).map_err(hazard_failure)
 }
 
 fn print_areas(spec: &HazardSpec, map: &HazardMap, out: &Path, files: &[PathBuf]) {
@@ -196,5 +131,10 @@ fn print_areas(spec: &HazardSpec, map: &HazardMap, out: &Path, files: &[PathBuf]
             l.name, l.colour, l.area_ha, l.share_pct
         );
     }
-    println!("wrote {} files into {}", files.len() + 1, out.display());
+    println!(
+        "wrote {} files into {} (open {})",
+        files.len(),
+        out.display(),
+        out.join("hazard.html").display()
+    );
 }

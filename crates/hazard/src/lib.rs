@@ -28,6 +28,7 @@ pub mod level;
 pub mod matrix;
 pub mod matrix_file;
 pub mod outputs;
+pub mod runner;
 pub mod runs;
 pub mod zones;
 
