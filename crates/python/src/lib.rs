@@ -7,6 +7,7 @@
 //! stopped (nothing is written by a run; `Results.write` writes each file atomically).
 
 mod calibrate;
+mod hazard;
 mod lab;
 mod results;
 mod run;
@@ -19,6 +20,8 @@ use pyo3::prelude::*;
 fn _rockfall(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scenario::PyScenario>()?;
     m.add_class::<results::PyResults>()?;
+    m.add_class::<hazard::PyHazard>()?;
+    m.add_function(wrap_pyfunction!(hazard::hazard, m)?)?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(lab::impact_lab, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate::calibrate, m)?)?;

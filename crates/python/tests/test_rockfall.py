@@ -274,3 +274,42 @@ def test_calibrate_returns_the_command_lines_record(site2, tmp_path):
     targets.write_text(CALIBRATION.replace("roughness_tilt_factor", "roughness_tilt_factr"))
     with pytest.raises(ValueError, match="near matches: lumped.roughness_tilt_factor"):
         rockfall.calibrate(site2 / "scenario.toml", targets, budget=2)
+
+
+HAZARD = """
+matrix = "swiss"
+[[scenario]]
+return_period_years = 30
+site = "vaujany-site2"
+volume_m3 = 0.02
+[[scenario]]
+return_period_years = 300
+site = "vaujany-site2"
+volume_m3 = 0.45
+"""
+
+
+def test_hazard_returns_the_command_lines_map(tmp_path):
+    f = tmp_path / "hazard.toml"
+    f.write_text(HAZARD)
+    r = sh("hazard", str(f), "--rocks-per-cell", "100", "--out", str(tmp_path / "cli"))
+    assert r.returncode == 0, r.stderr
+    hz = rockfall.hazard(f, out=tmp_path / "py", rocks_per_cell=100, threads=1)
+    assert hz.scenarios == ["30y", "300y"]
+    assert hz.level.dtype == np.uint8 and hz.level.shape == (142, 60)
+    assert set(np.unique(hz.level)) <= {0, 1, 2, 3, 4} and (hz.level == 4).any()
+    assert hz.crs == "EPSG:2154"
+    x0, cell, _, y1, _, _ = hz.transform
+    assert cell == 2.5 and y1 - x0 > 0
+    # the same zones as the command line's Hazard_level.tif, cell for cell
+    cli = (tmp_path / "cli" / "hazard.json").read_text()
+    assert json.loads(cli)["areas"] == hz.summary["areas"]
+    for name in ["Hazard_level.tif", "Hazard_field.tif", "hazard_zones.gpkg"]:
+        assert (tmp_path / "py" / name).is_file(), name
+    counts = np.bincount(hz.level.ravel(), minlength=5)
+    areas = {a["level"]: a["cells"] for a in hz.summary["areas"]["levels"]}
+    assert [areas[k] for k in range(1, 5)] == list(counts[1:])
+    with pytest.raises(ValueError, match=r"split\.6.*purple"):
+        bad = tmp_path / "bad.toml"
+        bad.write_text('[split]\n6 = "purple"\n' + HAZARD.replace('matrix = "swiss"\n', ""))
+        rockfall.hazard(bad, out=tmp_path / "bad")

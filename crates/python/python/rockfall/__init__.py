@@ -11,8 +11,30 @@ contact). The numbers are the command line's, bit for bit, for the same scenario
     a = res.raster("Nr_passages")        # 2-D numpy array, north-up rows, NaN where nodata
     res.transform, res.crs, res.summary
     res.write("out")                     # the same files as `rockfall run`
+    hz = rockfall.hazard("hazard.toml", out="zones")   # as `rockfall hazard`
+    hz.level, hz.field, hz.transform, hz.crs, hz.summary
 """
 
-from ._rockfall import Results, Scenario, __version__, calibrate, impact_lab, run, sites
+from ._rockfall import (
+    Hazard,
+    Results,
+    Scenario,
+    __version__,
+    calibrate,
+    hazard,
+    impact_lab,
+    run,
+    sites,
+)
 
-__all__ = ["Results", "Scenario", "__version__", "calibrate", "impact_lab", "run", "sites"]
+__all__ = [
+    "Hazard",
+    "Results",
+    "Scenario",
+    "__version__",
+    "calibrate",
+    "hazard",
+    "impact_lab",
+    "run",
+    "sites",
+]

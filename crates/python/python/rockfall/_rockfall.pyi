@@ -118,3 +118,51 @@ def impact_lab(
     mu: Optional[float] = None,
 ) -> dict[str, npt.NDArray[Any]]:
     """Seed 001's single-tree impact laboratory: the impacts as a dict of numpy columns."""
+
+
+class Hazard:
+    """A hazard zone map (``rockfall.hazard``): arrays north-up, rows north to south."""
+
+    @property
+    def level(self) -> npt.NDArray[np.uint8]:
+        """Hazard level per cell: 0 none, 1 residual, 2 low, 3 medium, 4 high."""
+    @property
+    def field(self) -> npt.NDArray[np.uint8]:
+        """Matrix field per cell (1–9 for the Swiss matrix; 0 none or residual)."""
+    @property
+    def intensity_class(self) -> npt.NDArray[np.uint8]:
+        """Intensity class that decided each cell (1 weakest; 0 none)."""
+    @property
+    def return_period_class(self) -> npt.NDArray[np.uint8]:
+        """Probability class that decided each cell (1 most frequent; 0 none)."""
+    @property
+    def transform(self) -> tuple[float, float, float, float, float, float]:
+        """GDAL geotransform (x_min, cell, 0, y_max, 0, -cell), m."""
+    @property
+    def crs(self) -> Optional[str]:
+        """``"EPSG:<code>"`` when known, else the WKT, else None."""
+    @property
+    def scenarios(self) -> list[str]:
+        """The scenarios' labels, in file order."""
+    @property
+    def summary(self) -> dict[str, Any]:
+        """hazard.json: the settings and the area of each level and field."""
+    @property
+    def out(self) -> str:
+        """The folder the map's files were written into."""
+
+def hazard(
+    path: PathLike,
+    *,
+    out: PathLike = "rockfall-hazard",
+    matrix: Optional[str] = None,
+    rocks_per_cell: Optional[int] = None,
+    seed: Optional[int] = None,
+    threads: Optional[int] = None,
+    rerun: bool = False,
+) -> Hazard:
+    """The hazard zone map of a hazard file, as ``rockfall hazard``: runs its scenarios not
+    yet run into ``out/runs/<label>`` (GIL released), writes Hazard_level.tif, hazard_zones.gpkg,
+    hazard.json, hazard.html … into ``out`` and returns the map. Bad input raises
+    ``ValueError`` naming the file and the key.
+    """
