@@ -163,6 +163,46 @@ fn three_scenarios_make_a_zone_map_that_gis_tools_read() {
         read_grid(&out.join("Hazard_level.tif")).unwrap().values(),
         level.values()
     );
+    // the runs' QGIS projects gained the zone layers once; hazard.qgs holds them over the
+    // class rasters and each scenario's E_95
+    let layers = |path: &Path| -> Vec<(String, String)> {
+        let text = std::fs::read_to_string(path).unwrap();
+        let opts = roxmltree::ParsingOptions {
+            allow_dtd: true,
+            ..Default::default()
+        };
+        let doc = roxmltree::Document::parse_with_options(&text, opts).unwrap();
+        (doc.descendants())
+            .filter(|n| n.has_tag_name("layer-tree-layer"))
+            .map(|n| {
+                (
+                    n.attribute("name").unwrap().into(),
+                    n.attribute("source").unwrap().into(),
+                )
+            })
+            .collect()
+    };
+    let run_layers = layers(&out.join("runs/100y/rockfall.qgs"));
+    let zones: Vec<_> = run_layers
+        .iter()
+        .filter(|(n, _)| n == "Hazard zones")
+        .collect();
+    assert_eq!(zones.len(), 1, "{run_layers:?}");
+    assert_eq!(
+        zones[0].1,
+        "./../../hazard_zones.gpkg|layername=hazard_zones"
+    );
+    let own = layers(&out.join("hazard.qgs"));
+    for (name, source) in [
+        ("Hazard zones", "./hazard_zones.gpkg|layername=hazard_zones"),
+        ("Hazard_level", "./Hazard_level.tif"),
+        ("E_95 300y", "./runs/300y/E_95.tif"),
+    ] {
+        assert!(
+            own.contains(&(name.into(), source.into())),
+            "{name}: {own:?}"
+        );
+    }
     // a changed block is run again
     let changed = write(dir.path(), "changed.toml", &THREE.replace("0.45", "0.3"));
     let third = ok(rockfall(&[

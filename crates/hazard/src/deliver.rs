@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use rockfall_raster::Grid;
-use rockfall_report::project::{ProjectLayer, write_layers_project};
+use rockfall_report::project::{PROJECT_FILE, ProjectLayer, add_layers, write_layers_project};
 use rockfall_report::{HazardReport, LegendEntry, MatrixCell, MatrixTable, write_hazard_report};
 
 use crate::build::HazardMap;
@@ -44,6 +44,7 @@ pub fn write_all(
     files.push(crate::zones::write_zones(out, &spec.matrix, map)?);
     files.extend(write_page(out, spec, map, relief.dem)?);
     files.push(write_project(out, spec, map, relief.file)?);
+    add_zones_to_runs(out, &spec.matrix, map)?;
     let summary = summary(spec, map, out, &files, start.elapsed().as_secs_f64());
     files.push(write_summary(out, &summary)?);
     Ok(files)
@@ -280,20 +281,7 @@ fn write_project(
         vector: None,
         checked,
     };
-    let mut layers = vec![
-        ProjectLayer {
-            name: "Hazard zones".into(),
-            source: format!(
-                "./{}|layername={}",
-                crate::zones::ZONES_FILE,
-                crate::zones::ZONES_LAYER
-            ),
-            style: crate::zones::renderer(m),
-            vector: Some("Polygon"),
-            checked: true,
-        },
-        raster("Hazard_level", crate::outputs::level_qml(m), false),
-    ];
+    let mut layers = zone_layers(m, "./");
     for name in ["Hazard_field", "Intensity_class", "Return_period_class"] {
         let qml = std::fs::read_to_string(out.join(format!("{name}.qml"))).unwrap_or_default();
         layers.push(raster(name, qml, false));
@@ -323,6 +311,44 @@ fn write_project(
         dem_file,
     )
     .map_err(out_err)
+}
+
+/// The zone layers, with sources relative to a project (`prefix` leads from the project's
+/// folder to the hazard folder).
+fn zone_layers(m: &Matrix, prefix: &str) -> Vec<ProjectLayer> {
+    vec![
+        ProjectLayer {
+            name: "Hazard zones".into(),
+            source: format!(
+                "{prefix}{}|layername={}",
+                crate::zones::ZONES_FILE,
+                crate::zones::ZONES_LAYER
+            ),
+            style: crate::zones::renderer(m),
+            vector: Some("Polygon"),
+            checked: true,
+        },
+        ProjectLayer {
+            name: "Hazard_level".into(),
+            source: format!("{prefix}Hazard_level.tif"),
+            style: pipe_of(&crate::outputs::level_qml(m)),
+            vector: None,
+            checked: false,
+        },
+    ]
+}
+
+/// The QGIS project of every run this command made (in `out/runs/`) gains the zone layers;
+/// run folders given as `run = …` are the user's and are not touched.
+fn add_zones_to_runs(out: &Path, m: &Matrix, map: &HazardMap) -> Result<(), HazardError> {
+    let runs = out.join("runs");
+    for s in map.scenarios.iter().filter(|s| s.run.starts_with(&runs)) {
+        let project = s.run.join(PROJECT_FILE);
+        if project.is_file() {
+            add_layers(&project, &zone_layers(m, "./../../")).map_err(out_err)?;
+        }
+    }
+    Ok(())
 }
 
 /// `target` relative to `dir` when inside it (`./runs/30y/E_95.tif`), else absolute.

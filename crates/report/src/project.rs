@@ -206,6 +206,141 @@ fn srs(crs: Option<&Crs>) -> String {
     )
 }
 
+/// A layer's entry in the layer tree.
+fn tree_entry(l: &MapLayer) -> String {
+    format!(
+        "    <layer-tree-layer id=\"{}\" name=\"{}\" source=\"{}\" providerKey=\"{}\" checked=\"{}\" expanded=\"0\"/>\n",
+        l.id,
+        xml_escape(&l.name),
+        xml_escape(&l.source),
+        l.provider,
+        if l.checked {
+            "Qt::Checked"
+        } else {
+            "Qt::Unchecked"
+        }
+    )
+}
+
+/// A layer's `<maplayer>` element, with the project's `extent` and `srs` elements.
+fn map_layer(l: &MapLayer, extent: &str, srs: &str) -> String {
+    let mut s = String::new();
+    let geometry = match l.kind {
+        "vector" => format!(" geometry=\"{}\"", l.body),
+        _ => String::new(),
+    };
+    let _ = writeln!(s, "    <maplayer type=\"{}\"{geometry}>", l.kind);
+    let _ = writeln!(s, "      {extent}");
+    let _ = writeln!(s, "      <id>{}</id>", l.id);
+    let _ = writeln!(
+        s,
+        "      <datasource>{}</datasource>",
+        xml_escape(&l.source)
+    );
+    let _ = writeln!(s, "      <layername>{}</layername>", xml_escape(&l.name));
+    let _ = writeln!(s, "      <srs>{srs}</srs>");
+    let _ = writeln!(s, "      <provider>{}</provider>", l.provider);
+    if l.kind == "raster" {
+        s += &l.body;
+    } else {
+        s += &l.renderer;
+    }
+    let _ = writeln!(s, "      <blendMode>0</blendMode>");
+    let _ = writeln!(s, "    </maplayer>");
+    s
+}
+
+/// Adds `layers` on top of the project at `path` written by a run (`rockfall.qgs`), in
+/// its extent and CRS; a layer already there (same id) is replaced. Sources are relative
+/// to the project.
+pub fn add_layers(path: &Path, layers: &[ProjectLayer]) -> Result<(), ReportError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ReportError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let between = |a: &str, b: &str| -> Option<String> {
+        let i = text.find(a)?;
+        let j = text[i..].find(b)? + i + b.len();
+        Some(text[i..j].to_string())
+    };
+    let (Some(extent), Some(srs)) = (
+        between("<extent>", "</extent>"),
+        between("<projectCrs>", "</projectCrs>"),
+    ) else {
+        return Err(ReportError::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::other("not a project written by rockfall"),
+        });
+    };
+    let srs = srs
+        .trim_start_matches("<projectCrs>")
+        .trim_end_matches("</projectCrs>")
+        .to_string();
+    let mut text = text.clone();
+    for l in layers.iter().rev() {
+        let m = MapLayer {
+            id: layer_id(&l.name),
+            name: l.name.clone(),
+            source: l.source.clone(),
+            kind: if l.vector.is_some() {
+                "vector"
+            } else {
+                "raster"
+            },
+            provider: if l.vector.is_some() { "ogr" } else { "gdal" },
+            body: l.vector.map_or(l.style.clone(), str::to_string),
+            renderer: if l.vector.is_some() {
+                l.style.clone()
+            } else {
+                String::new()
+            },
+            checked: l.checked,
+        };
+        text = remove_layer(&text, &m.id);
+        text = text.replacen(
+            "  <layer-tree-group>\n",
+            &format!("  <layer-tree-group>\n{}", tree_entry(&m)),
+            1,
+        );
+        text = text.replacen(
+            "  <projectlayers>\n",
+            &format!("  <projectlayers>\n{}", map_layer(&m, &extent, &srs)),
+            1,
+        );
+    }
+    rockfall_raster::atomic::write_bytes_atomic(path, text.as_bytes())?;
+    Ok(())
+}
+
+/// The project text without the layer `id` (its tree entry and its `<maplayer>`).
+fn remove_layer(text: &str, id: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut skipping = false;
+    for line in text.split_inclusive('\n') {
+        if line.contains(&format!("<layer-tree-layer id=\"{id}\"")) {
+            continue;
+        }
+        if line.trim_start().starts_with("<maplayer") {
+            skipping = false;
+        }
+        out.push_str(line);
+        if line.trim() == format!("<id>{id}</id>") {
+            // the <maplayer> line and its extent went out already: drop the whole element
+            skipping = true;
+            let start = out.rfind("    <maplayer").unwrap_or(out.len());
+            out.truncate(start);
+            continue;
+        }
+        if skipping {
+            out.truncate(out.len() - line.len());
+            if line.trim() == "</maplayer>" {
+                skipping = false;
+            }
+        }
+    }
+    out
+}
+
 fn project(title: &str, g: &GridGeometry, crs: Option<&Crs>, layers: &[MapLayer]) -> String {
     let srs = srs(crs);
     let extent = format!(
@@ -225,19 +360,7 @@ fn project(title: &str, g: &GridGeometry, crs: Option<&Crs>, layers: &[MapLayer]
     let _ = writeln!(s, "  <projectCrs>{srs}</projectCrs>");
     let _ = writeln!(s, "  <layer-tree-group>");
     for l in layers {
-        let _ = writeln!(
-            s,
-            "    <layer-tree-layer id=\"{}\" name=\"{}\" source=\"{}\" providerKey=\"{}\" checked=\"{}\" expanded=\"0\"/>",
-            l.id,
-            xml_escape(&l.name),
-            xml_escape(&l.source),
-            l.provider,
-            if l.checked {
-                "Qt::Checked"
-            } else {
-                "Qt::Unchecked"
-            }
-        );
+        s += &tree_entry(l);
     }
     let _ = writeln!(s, "  </layer-tree-group>");
     let _ = writeln!(s, "  <mapcanvas name=\"theMapCanvas\">");
@@ -247,28 +370,7 @@ fn project(title: &str, g: &GridGeometry, crs: Option<&Crs>, layers: &[MapLayer]
     let _ = writeln!(s, "  </mapcanvas>");
     let _ = writeln!(s, "  <projectlayers>");
     for l in layers {
-        let geometry = match l.kind {
-            "vector" => format!(" geometry=\"{}\"", l.body),
-            _ => String::new(),
-        };
-        let _ = writeln!(s, "    <maplayer type=\"{}\"{geometry}>", l.kind);
-        let _ = writeln!(s, "      {extent}");
-        let _ = writeln!(s, "      <id>{}</id>", l.id);
-        let _ = writeln!(
-            s,
-            "      <datasource>{}</datasource>",
-            xml_escape(&l.source)
-        );
-        let _ = writeln!(s, "      <layername>{}</layername>", xml_escape(&l.name));
-        let _ = writeln!(s, "      <srs>{srs}</srs>");
-        let _ = writeln!(s, "      <provider>{}</provider>", l.provider);
-        if l.kind == "raster" {
-            s += &l.body;
-        } else {
-            s += &l.renderer;
-        }
-        let _ = writeln!(s, "      <blendMode>0</blendMode>");
-        let _ = writeln!(s, "    </maplayer>");
+        s += &map_layer(l, &extent, &srs);
     }
     let _ = writeln!(s, "  </projectlayers>");
     let _ = writeln!(
