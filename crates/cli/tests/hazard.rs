@@ -352,3 +352,68 @@ fn bad_hazard_input_exits_2_naming_the_file_and_key() {
     );
     assert!(!out.exists(), "nothing written on bad input");
 }
+
+const AREAS: &str = r#"{"type":"FeatureCollection",
+"crs":{"type":"name","properties":{"name":"urn:ogc:def:crs:EPSG::2154"}},
+"features":[
+{"type":"Feature","properties":{"name":"west"},"geometry":{"type":"Polygon","coordinates":[[[939400,6460380],[939425,6460380],[939425,6460395],[939400,6460395],[939400,6460380]]]}},
+{"type":"Feature","properties":{"name":"east"},"geometry":{"type":"Polygon","coordinates":[[[939425,6460380],[939450,6460380],[939450,6460395],[939425,6460395],[939425,6460380]]]}}
+]}"#;
+
+#[test]
+fn frequency_mode_takes_each_release_area_with_its_own_frequency() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "areas.geojson", AREAS);
+    let entry = |name: &str, f: f64, fid: u32| {
+        format!(
+            "[[scenario]]\nname = \"{name}\"\nfrequency_per_year = {f}\nsite = \"vaujany-site2\"\n\
+             release = \"areas.geojson\"\nrelease_fid = {fid}\n"
+        )
+    };
+    let text = format!("{}{}", entry("west", 0.1, 0), entry("east", 0.05, 1));
+    let file = write(dir.path(), "freq.toml", &text);
+    let out = dir.path().join("out");
+    let stdout = ok(rockfall(&[
+        "hazard",
+        s(&file),
+        "--out",
+        s(&out),
+        "--rocks-per-cell",
+        "4",
+    ]));
+    assert!(stdout.contains("frequency mode"), "{stdout}");
+    // each area's 10 × 6 cells of 2.5 m, and nothing else, released
+    for area in ["west", "east"] {
+        let summary = json(&out.join(format!("runs/{area}/summary.json")));
+        assert_eq!(summary["parameters"]["source_cells"], 60, "{area}");
+        assert_eq!(summary["rocks"], 240, "{area}");
+    }
+    // λ adds the areas: T of any block = 1 / (0.1 P_west + 0.05 P_east)
+    let t = read_grid(&out.join("Return_period_years.tif")).unwrap();
+    let pw = read_grid(&out.join("runs/west/Reach_probability.tif")).unwrap();
+    let pe = read_grid(&out.join("runs/east/Reach_probability.tif")).unwrap();
+    let mut checked = 0;
+    for i in 0..t.geometry().len() {
+        let lambda = (0.1 * pw.get_index(i).unwrap() + 0.05 * pe.get_index(i).unwrap()) / 100.0;
+        match t.get_index(i) {
+            Some(ty) => {
+                assert!(
+                    (ty * lambda - 1.0).abs() < 1e-5,
+                    "cell {i}: {ty} y, λ {lambda}"
+                );
+                checked += 1;
+            }
+            None => assert_eq!(lambda, 0.0, "cell {i}"),
+        }
+    }
+    assert!(checked > 60, "{checked}");
+    let bad = write(dir.path(), "bad.toml", &entry("west", 0.1, 7));
+    bad_input(
+        rockfall(&["hazard", s(&bad), "--out", s(&dir.path().join("bad"))]),
+        &[
+            "bad.toml",
+            "scenario[1].release_fid",
+            "no feature with FID 7",
+        ],
+    );
+}

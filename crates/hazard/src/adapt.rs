@@ -1,6 +1,9 @@
 //! A hazard scenario's changes to the scenario it runs: the design block of its return
 //! period, and the energy thresholds the matrix needs counted.
 
+use std::path::Path;
+
+use rockfall_io::vector::inputs::{Frame, open, release_cells};
 use rockfall_raster::Field;
 use rockfall_scenario::{MAX_ENERGY_THRESHOLDS, Scenario};
 
@@ -46,4 +49,42 @@ pub fn add_thresholds(s: &mut Scenario, matrix: &Matrix) {
     }
     t.sort_by(f64::total_cmp);
     s.output.energy_thresholds_kj = t;
+}
+
+/// The release area of `s` replaced by the polygons of the layer at `path` (only the feature
+/// of OGR id `fid` when given): the cells whose centres they hold, as `[release] cells`
+/// takes a layer; the scenario's release points are dropped.
+pub fn set_release(
+    s: &mut Scenario,
+    path: &Path,
+    fid: Option<i64>,
+) -> Result<(), (&'static str, String)> {
+    if !rockfall_io::vector::is_vector_path(path) {
+        return Err((
+            "release",
+            format!(
+                "{}: a polygon layer (.geojson, .gpkg, .shp)",
+                path.display()
+            ),
+        ));
+    }
+    let dem = &s.terrain.dem;
+    let frame = Frame {
+        geometry: *dem.geometry(),
+        crs: dem.crs().cloned(),
+    };
+    let mut notes = Vec::new();
+    let mut layer = open(path, None, &frame, &mut notes).map_err(|e| ("release", e.to_string()))?;
+    if let Some(id) = fid {
+        layer.features.retain(|f| f.id == id);
+        if layer.features.is_empty() {
+            return Err((
+                "release_fid",
+                format!("{}: no feature with FID {id}", path.display()),
+            ));
+        }
+    }
+    s.release.cells = release_cells(&layer, &frame).map_err(|e| ("release", e.to_string()))?;
+    s.release.points.clear();
+    Ok(())
 }

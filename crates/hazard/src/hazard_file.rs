@@ -14,6 +14,8 @@
 //! return_period_years = 30
 //! scenario = "slope.toml"     # run first; or run = "<finished run folder>"
 //! volume_m3 = 0.5             # optional: this return period's design block
+//! release = "areas.gpkg"      # optional: the release area in place of the scenario's
+//! release_fid = 2             # optional: one polygon of it (frequency mode: one per area)
 //! ```
 
 use std::collections::BTreeMap;
@@ -74,6 +76,9 @@ pub struct ScenarioEntry {
     pub block: Block,
     /// Rocks per source cell, when the entry changes it.
     pub rocks_per_cell: Option<u64>,
+    /// The release area in place of the scenario's: a polygon layer, and the one feature
+    /// (OGR's FID) of it when given.
+    pub release: Option<(PathBuf, Option<i64>)>,
 }
 
 /// A hazard file, read and checked.
@@ -118,6 +123,8 @@ struct EntrySpec {
     mass_kg: Option<f64>,
     block_percentile: Option<f64>,
     rocks_per_cell: Option<u64>,
+    release: Option<String>,
+    release_fid: Option<i64>,
 }
 
 /// The matrix named `name` (`swiss`, `austria`) or in the file `name` (relative to `dir`).
@@ -329,6 +336,18 @@ fn entry(
             "a finished run's block cannot be changed: give `scenario` to run it".into(),
         ));
     }
+    if e.release_fid.is_some() && e.release.is_none() {
+        return Err((
+            key("release_fid"),
+            "names a feature of `release`, which is missing".into(),
+        ));
+    }
+    if e.release.is_some() && matches!(source, Source::Run(_)) {
+        return Err((
+            key("run"),
+            "a finished run's release cannot be changed: give `scenario` to run it".into(),
+        ));
+    }
     if e.rocks_per_cell == Some(0) {
         return Err((
             key("rocks_per_cell"),
@@ -346,6 +365,7 @@ fn entry(
         source,
         block,
         rocks_per_cell: e.rocks_per_cell,
+        release: e.release.as_ref().map(|r| (dir.join(r), e.release_fid)),
     })
 }
 

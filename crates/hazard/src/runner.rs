@@ -47,6 +47,9 @@ pub fn prepare(spec: &HazardSpec, i: usize) -> Result<Option<Prepared>, HazardEr
         }
     };
     crate::adapt::set_block(&mut scenario, &entry.block).map_err(|(k, m)| bad(k, m))?;
+    if let Some((path, fid)) = &entry.release {
+        crate::adapt::set_release(&mut scenario, path, *fid).map_err(|(k, m)| bad(k, m))?;
+    }
     crate::adapt::add_thresholds(&mut scenario, &spec.matrix);
     if let Some(n) = entry.rocks_per_cell {
         scenario.simulation.rocks_per_cell = n;
