@@ -327,6 +327,7 @@ impl Resolver {
             volume_m3,
             density_kg_m3: density,
             volume_variation_percent: variation,
+            volume_distribution: None,
         })
     }
 

@@ -148,6 +148,7 @@ fn block() -> RockSpec {
         volume_m3: None,
         density_kg_m3: Field::Const(2700.0),
         volume_variation_percent: 0.0,
+        volume_distribution: None,
     }
 }
 
