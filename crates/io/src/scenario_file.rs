@@ -314,6 +314,16 @@ impl Resolver {
                 "a sphere has equal dimensions; use `diameter_m`",
             ));
         }
+        if r.volume_distribution.is_some() && r.volume_variation_percent.is_some() {
+            return Err(self.invalid(
+                "rock.volume_distribution",
+                rockfall_scenario::volume::BOTH_KEYS,
+            ));
+        }
+        let volume_distribution = (r.volume_distribution)
+            .map(|d| crate::volume_distribution::parse(d, &density))
+            .transpose()
+            .map_err(|e| self.invalid(&format!("rock.volume_distribution.{}", e.key), e.message))?;
         let variation = r.volume_variation_percent.unwrap_or(0.0);
         if !(0.0..100.0).contains(&variation) {
             return Err(self.invalid(
@@ -327,7 +337,7 @@ impl Resolver {
             volume_m3,
             density_kg_m3: density,
             volume_variation_percent: variation,
-            volume_distribution: None,
+            volume_distribution,
         })
     }
 
