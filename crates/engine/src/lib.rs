@@ -78,9 +78,9 @@ pub trait Engine: Sync {
     /// or why it cannot be launched (off the terrain, no rock there).
     fn launch(&self, scenario: &Scenario, release: &Release) -> Result<Self::Launch, Self::Error>;
 
-    /// The volume of the rock `launch` releases before any per-rock variation, m³ (finite,
-    /// > 0): what a volume drawn from `[rock] volume_distribution` is divided by to give the
-    /// rock's [`Rock::volume_factor`].
+    /// The volume of the rock `launch` releases before any per-rock variation, m³ (finite
+    /// and positive): what a volume drawn from `[rock] volume_distribution` is divided by to
+    /// give the rock's [`Rock::volume_factor`].
     fn nominal_volume_m3(&self, launch: &Self::Launch) -> f64;
 
     /// Fresh scratch space for one worker.
