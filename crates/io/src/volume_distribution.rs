@@ -39,7 +39,7 @@ pub(crate) fn parse(
     sec: VolumeDistributionSec,
     density: &Field,
 ) -> Result<VolumeDistribution, KeyError> {
-    let given: [(&'static str, bool); 11] = [
+    let given: [(&'static str, bool); 10] = [
         ("median_m3", sec.median_m3.is_some()),
         ("median_kg", sec.median_kg.is_some()),
         ("sd_ln", sec.sd_ln.is_some()),
@@ -50,7 +50,6 @@ pub(crate) fn parse(
         ("exponent", sec.exponent.is_some()),
         ("volumes_m3", sec.volumes_m3.is_some()),
         ("masses_kg", sec.masses_kg.is_some()),
-        ("kind", true),
     ];
     let keys: &[&str] = match sec.kind.as_str() {
         "lognormal" => &LOGNORMAL,
@@ -63,7 +62,7 @@ pub(crate) fn parse(
             ));
         }
     };
-    if let Some((key, _)) = (given.iter()).find(|(k, g)| *g && *k != "kind" && !keys.contains(k)) {
+    if let Some((key, _)) = (given.iter()).find(|(k, g)| *g && !keys.contains(k)) {
         return Err(err(
             key,
             format!(
