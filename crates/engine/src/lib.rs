@@ -48,9 +48,10 @@ pub struct Rock {
     pub id: u64,
     /// Index of the rock within its release.
     pub index: u64,
-    /// This rock's volume over the scenario's (1 without `[rock] volume_variation_percent`):
-    /// the engine scales the rock by it, keeping its shape and density (lengths by its cube
-    /// root, mass by it, moments of inertia by its 5/3 power).
+    /// This rock's volume over its launch's nominal one ([`Engine::nominal_volume_m3`]; 1
+    /// without `[rock] volume_variation_percent` or `volume_distribution`): the engine
+    /// scales the rock by it, keeping its shape and density (lengths by its cube root, mass
+    /// by it, moments of inertia by its 5/3 power).
     pub volume_factor: f64,
 }
 
@@ -76,6 +77,11 @@ pub trait Engine: Sync {
     /// The launch of `release`'s rocks in `scenario` (the one the engine was prepared from),
     /// or why it cannot be launched (off the terrain, no rock there).
     fn launch(&self, scenario: &Scenario, release: &Release) -> Result<Self::Launch, Self::Error>;
+
+    /// The volume of the rock `launch` releases before any per-rock variation, m³ (finite
+    /// and positive): what a volume drawn from `[rock] volume_distribution` is divided by to
+    /// give the rock's [`Rock::volume_factor`].
+    fn nominal_volume_m3(&self, launch: &Self::Launch) -> f64;
 
     /// Fresh scratch space for one worker.
     fn scratch(&self) -> Self::Scratch;

@@ -4,8 +4,14 @@ use crate::pool::run_rocks;
 use crate::{Engine, PoolError, Releases, Rock, RockSet, RunOptions};
 use rockfall_results::{Layout, Tally};
 use rockfall_rng::Purpose;
-use rockfall_scenario::Scenario;
+use rockfall_scenario::{Scenario, VolumeDistribution};
 use std::sync::Arc;
+
+/// The uniform draw in [0, 1) that sets the volume of the rock keyed `keys`: the first of its
+/// own [`Purpose::Volume`] stream.
+fn volume_draw(seed: u64, keys: &[u64]) -> f64 {
+    rand::RngExt::random(&mut rockfall_rng::stream(seed, Purpose::Volume, keys))
+}
 
 /// The volume factor of the rock keyed `keys`: uniform in `[1 − P/100, 1 + P/100]` for a
 /// variation of `P` % (Rockyfor3D's "additional variation of the block volume", Dorren 2016
@@ -15,8 +21,15 @@ fn volume_factor(seed: u64, variation_pct: f64, keys: &[u64]) -> f64 {
     if variation_pct <= 0.0 {
         return 1.0;
     }
-    let u: f64 = rand::RngExt::random(&mut rockfall_rng::stream(seed, Purpose::Volume, keys));
-    1.0 + variation_pct / 100.0 * (2.0 * u - 1.0)
+    1.0 + variation_pct / 100.0 * (2.0 * volume_draw(seed, keys) - 1.0)
+}
+
+/// `[rock] volume_distribution` as a plan draws from it.
+struct Drawn {
+    /// The distribution of each rock's volume, m³.
+    distribution: VolumeDistribution,
+    /// Each launch's nominal volume ([`Engine::nominal_volume_m3`]), m³, in release order.
+    nominal_m3: Vec<f64>,
 }
 
 /// A scenario's releases, each launched by `engine`, with the master seed: everything a run
@@ -28,6 +41,8 @@ pub struct Plan<E: Engine> {
     seed: u64,
     /// `[rock] volume_variation_percent`, %.
     volume_variation_pct: f64,
+    /// `[rock] volume_distribution`, when given.
+    drawn: Option<Drawn>,
 }
 
 impl<E: Engine> Plan<E> {
@@ -46,13 +61,34 @@ impl<E: Engine> Plan<E> {
         let launches = (releases.list().iter())
             .map(|r| engine.launch(scenario, r))
             .collect::<Result<Vec<_>, _>>()?;
+        let drawn = (scenario.rock.volume_distribution.clone()).map(|distribution| Drawn {
+            distribution,
+            nominal_m3: (launches.iter())
+                .map(|l| engine.nominal_volume_m3(l))
+                .collect(),
+        });
         Ok(Plan {
             engine,
             releases,
             launches,
             seed: scenario.seed,
             volume_variation_pct: scenario.rock.volume_variation_percent,
+            drawn,
         })
+    }
+
+    /// The volume factor of rock `index` of release `k` (keyed `keys`): with a
+    /// `volume_distribution`, the volume drawn from it (its inverse CDF at the rock's own
+    /// uniform draw) over the launch's nominal volume; else the `volume_variation_percent`
+    /// factor.
+    fn volume_factor(&self, k: usize, keys: &[u64]) -> f64 {
+        match &self.drawn {
+            Some(d) => {
+                let v = d.distribution.sample_m3(volume_draw(self.seed, keys));
+                v / d.nominal_m3[k]
+            }
+            None => volume_factor(self.seed, self.volume_variation_pct, keys),
+        }
     }
 
     /// The engine.
@@ -90,7 +126,7 @@ impl<E: Engine> Plan<E> {
         let rock = Rock {
             id,
             index,
-            volume_factor: volume_factor(self.seed, self.volume_variation_pct, &keys),
+            volume_factor: self.volume_factor(k, &keys),
         };
         self.engine
             .simulate(&self.launches[k], rock, &mut rng, tally, scratch);
@@ -133,8 +169,9 @@ mod tests {
     use std::sync::Mutex;
 
     /// What [`Recorder`] saw of one rock: its number, its index in its release, the key of
-    /// the release it was launched from, and the random stream it was handed.
-    type Seen = (u64, u64, [u64; 2], Rng);
+    /// the release it was launched from, the random stream it was handed and its volume
+    /// factor.
+    type Seen = (u64, u64, [u64; 2], Rng, f64);
 
     /// An engine that moves no rock: it notes what the plan hands it.
     #[derive(Default)]
@@ -156,6 +193,11 @@ mod tests {
             Ok(release.key())
         }
 
+        /// 1 m³ from source cells, 4 m³ from release points.
+        fn nominal_volume_m3(&self, launch: &[u64; 2]) -> f64 {
+            if launch[0] == 0 { 1.0 } else { 4.0 }
+        }
+
         fn scratch(&self) {}
 
         fn simulate(
@@ -166,7 +208,13 @@ mod tests {
             _: &mut Tally,
             _: &mut (),
         ) {
-            let seen = (rock.id, rock.index, *launch, rng.clone());
+            let seen = (
+                rock.id,
+                rock.index,
+                *launch,
+                rng.clone(),
+                rock.volume_factor,
+            );
             self.seen.lock().unwrap().push(seen);
         }
     }
@@ -230,7 +278,8 @@ mod tests {
         ];
         let got: Vec<(u64, u64, [u64; 2])> = seen.iter().map(|r| (r.0, r.1, r.2)).collect();
         assert_eq!(got, expected);
-        for (id, index, key, rng) in &seen {
+        for (id, index, key, rng, factor) in &seen {
+            assert_eq!(*factor, 1.0, "no volume key: every rock alike");
             let own = rockfall_rng::stream(42, Purpose::Rock, &[key[0], key[1], *index]);
             assert!(
                 *rng == own,
@@ -239,5 +288,54 @@ mod tests {
                 key[1]
             );
         }
+    }
+
+    /// The rocks of a plan run with `threads` workers: (global number, volume factor), by
+    /// number.
+    fn factors(s: &Scenario, threads: usize) -> Vec<(u64, f64)> {
+        let plan = Plan::new(Recorder::default(), s).unwrap();
+        let opts = RunOptions {
+            threads,
+            progress: None,
+            cancel: None,
+        };
+        plan.run_all(&Arc::new(Layout::of(s)), &opts).unwrap();
+        let mut seen: Vec<(u64, f64)> = (plan.engine().seen.lock().unwrap().iter())
+            .map(|r| (r.0, r.4))
+            .collect();
+        seen.sort_by_key(|r| r.0);
+        seen
+    }
+
+    /// `[rock] volume_distribution`: each rock's volume is the distribution's inverse CDF at
+    /// the first draw of its own stream `(seed, Volume, [release key, index])`, handed to
+    /// the engine over its launch's nominal volume — the same whatever the thread count.
+    #[test]
+    fn each_rock_draws_its_volume_from_its_own_stream() {
+        let mut s = scenario();
+        let d = VolumeDistribution::LogNormal {
+            median_m3: 0.5,
+            sd_ln: 0.7,
+        };
+        s.rock.volume_distribution = Some(d.clone());
+        let plan = Plan::new(Recorder::default(), &s).unwrap();
+        let one = factors(&s, 1);
+        assert_eq!(one.len(), 8);
+        assert_eq!(factors(&s, 2), one);
+        let mut volumes = Vec::new();
+        for &(id, factor) in &one {
+            let (k, index) = plan.releases().numbering().locate(id);
+            let key = plan.releases().list()[k].key();
+            let u: f64 = rand::RngExt::random(&mut rockfall_rng::stream(
+                42,
+                Purpose::Volume,
+                &[key[0], key[1], index],
+            ));
+            let nominal = if key[0] == 0 { 1.0 } else { 4.0 };
+            assert_eq!(factor * nominal, d.sample_m3(u), "rock {id}");
+            volumes.push(factor * nominal);
+        }
+        volumes.dedup();
+        assert_eq!(volumes.len(), 8, "every rock its own volume");
     }
 }

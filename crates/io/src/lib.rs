@@ -23,6 +23,7 @@ mod schema;
 pub mod shape;
 pub mod trees;
 pub mod vector;
+mod volume_distribution;
 pub mod write;
 
 pub use error::InputError;

@@ -104,6 +104,7 @@ pub fn read_folder(dir: &Path) -> Result<Scenario, InputError> {
         volume_m3: None,
         density_kg_m3: field("rock.density_kg_m3", density),
         volume_variation_percent: 0.0,
+        volume_distribution: None,
     };
     // Source cells: rockdensity > 0. Alignment is checked first so the index is meaningful.
     dem.geometry()

@@ -93,6 +93,25 @@ pub struct RockSec {
     pub mass_kg: Option<f64>,
     pub density_kg_m3: Option<Param>,
     pub volume_variation_percent: Option<f64>,
+    pub volume_distribution: Option<VolumeDistributionSec>,
+}
+
+/// `[rock] volume_distribution`: one table for every kind; which keys a kind takes is
+/// checked when it is read (`crate::volume_distribution`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VolumeDistributionSec {
+    pub kind: String,
+    pub median_m3: Option<f64>,
+    pub median_kg: Option<f64>,
+    pub sd_ln: Option<f64>,
+    pub min_m3: Option<f64>,
+    pub min_kg: Option<f64>,
+    pub max_m3: Option<f64>,
+    pub max_kg: Option<f64>,
+    pub exponent: Option<f64>,
+    pub volumes_m3: Option<Vec<f64>>,
+    pub masses_kg: Option<Vec<f64>>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -47,6 +47,7 @@ pub fn fits_rockyfor3d(s: &Scenario) -> bool {
         && matches!(s.rock.shape, RockShape::Block(_) | RockShape::PerCell(_))
         && s.rock.volume_m3.is_none()
         && s.rock.volume_variation_percent == 0.0
+        && s.rock.volume_distribution.is_none()
         && s.screens.iter().all(|sc| sc.net.is_none())
 }
 
@@ -206,6 +207,9 @@ impl Writer {
                 "volume_variation_percent = {}",
                 num(r.volume_variation_percent)
             );
+        }
+        if let Some(d) = &r.volume_distribution {
+            t += &crate::volume_distribution::table(d, num);
         }
 
         t += "\n[release]\n";

@@ -199,6 +199,11 @@ impl Engine for LumpedModel<'_> {
         })
     }
 
+    /// The volume of the release cell's block ([`RockBody::volume_m3`]).
+    fn nominal_volume_m3(&self, launch: &Launch) -> f64 {
+        launch.body.volume_m3
+    }
+
     fn scratch(&self) -> Scratch {
         Scratch::default()
     }

@@ -266,6 +266,11 @@ impl Engine for RigidModel<'_> {
         })
     }
 
+    /// The volume of the scenario's rock, one for every release (its hull's volume).
+    fn nominal_volume_m3(&self, _launch: &Launch) -> f64 {
+        self.body.geometry.volume_m3
+    }
+
     fn scratch(&self) -> StepScratch {
         StepScratch::default()
     }

@@ -12,7 +12,10 @@ use rockfall_forest::Forest;
 use rockfall_raster::Field;
 use rockfall_results::{Layout, Outcome, Results, RunInfo};
 use rockfall_rigid::{RigidError, RigidModel};
-use rockfall_scenario::{BlockShape, Engine, Release, ReleasePoint, RockShape, RockSpec, Scenario};
+use rockfall_scenario::{
+    BlockShape, Engine, ObservedVolumes, Release, ReleasePoint, RockShape, RockSpec, Scenario,
+    VolumeDistribution,
+};
 use rockfall_terrain::{Dem, SoilType, SurfaceMap, Terrain};
 use std::sync::Arc;
 use std::time::Instant;
@@ -148,6 +151,7 @@ fn block() -> RockSpec {
         volume_m3: None,
         density_kg_m3: Field::Const(2700.0),
         volume_variation_percent: 0.0,
+        volume_distribution: None,
     }
 }
 
@@ -356,6 +360,35 @@ fn varied_volumes_scale_the_hull_and_the_mass() {
             .iter()
             .all(|k| (k.volume_m3 / v0 - 1.0).abs() < 1e-12)
     );
+}
+
+/// `[rock] volume_distribution` in the rigid engine: the drawn volume replaces the block's
+/// (0.024 m³), so each rock of `rocks.csv` has one of the observed volumes exactly, at the
+/// block's density, and both values occur.
+#[test]
+fn drawn_volumes_replace_the_blocks() {
+    let mut rock = block();
+    let observed = [0.012, 0.048];
+    rock.volume_distribution = Some(VolumeDistribution::Observed(ObservedVolumes::new(
+        observed.to_vec(),
+    )));
+    let mut s = flat_scenario(rock, ReleasePoint::at_rest(0.3, 0.2, 0.5));
+    s.simulation.max_time_s = 3.0;
+    s.simulation.rocks_per_point = 12;
+    s.output.rocks_csv = true;
+    s.validate().unwrap();
+    let r = run(&s, None, 2);
+    let records = r.rock_records();
+    assert_eq!(records.len(), 12);
+    let mut seen = [0; 2];
+    for k in records {
+        let i = (observed.iter())
+            .position(|v| (k.volume_m3 / v - 1.0).abs() < 1e-9)
+            .unwrap_or_else(|| panic!("volume {} not observed", k.volume_m3));
+        seen[i] += 1;
+        assert!((k.mass_kg / k.volume_m3 / 2700.0 - 1.0).abs() < 1e-9);
+    }
+    assert!(seen.iter().all(|&n| n > 0), "{seen:?}");
 }
 
 /// A bare plane of `theta_deg` falling towards −y, 1 m cells over [−20.5, 20.5]² m.

@@ -29,6 +29,7 @@ fn block_spec(shape: BlockShape, dims_m: [f64; 3], volume_m3: Option<f64>) -> Ro
         volume_m3,
         density_kg_m3: Field::Const(2700.0),
         volume_variation_percent: 0.0,
+        volume_distribution: None,
     }
 }
 

@@ -21,6 +21,7 @@ mod release;
 pub mod rock;
 mod summary;
 mod validate;
+pub mod volume;
 
 pub use error::ScenarioError;
 pub use ground::{GroundClass, GroundModel, ScarringGround, ScarringSettings};
@@ -32,6 +33,7 @@ pub use params::{
 pub use release::{Release, ReleasePoint};
 pub use rock::{BlockShape, RockShape, RockSpec};
 pub use summary::{FieldRange, Overview};
+pub use volume::{ObservedVolumes, VolumeDistribution, VolumeDistributionError};
 
 use rockfall_forest::{Forest, StandCell, StandOptions, Stem};
 use rockfall_raster::Field;

@@ -1,5 +1,6 @@
 //! The rock: shape, dimensions, density.
 
+use crate::VolumeDistribution;
 use rockfall_raster::Field;
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -196,6 +197,10 @@ pub struct RockSpec {
     /// give, %, in [0, 100) (default 0: every rock alike). Rockyfor3D's "additional variation
     /// of the block volume" (Dorren 2016 §2.5).
     pub volume_variation_percent: f64,
+    /// When set, each rock's volume is drawn from this distribution, m³, replacing the volume
+    /// the other keys give (their shape and density kept); excludes
+    /// `volume_variation_percent`. See [`VolumeDistribution`].
+    pub volume_distribution: Option<VolumeDistribution>,
 }
 
 impl RockSpec {
@@ -211,6 +216,7 @@ impl RockSpec {
             volume_m3: None,
             density_kg_m3: Field::Const(density_kg_m3),
             volume_variation_percent: 0.0,
+            volume_distribution: None,
         }
     }
 
@@ -224,6 +230,7 @@ impl RockSpec {
             volume_m3: Some(volume_m3.unwrap_or_else(|| default_volume_m3(name))),
             density_kg_m3: Field::Const(density_kg_m3),
             volume_variation_percent: 0.0,
+            volume_distribution: None,
         })
     }
 

@@ -136,6 +136,18 @@ fn screen_text(s: &crate::Screen) -> String {
 }
 
 fn rock_text(s: &Scenario) -> String {
+    if let Some(d) = &s.rock.volume_distribution {
+        let density = range_text(s.rock.density_kg_m3.range(), "kg/m³");
+        let rho = match s.rock.density_kg_m3 {
+            Field::Const(rho) => Some(rho),
+            _ => None,
+        };
+        return format!(
+            "{}, density {density}; volume {}",
+            s.rock.shape.describe(),
+            d.describe(rho)
+        );
+    }
     let text = rock_shape_text(s);
     match s.rock.volume_variation_percent {
         p if p > 0.0 => format!("{text}; each rock's volume within ±{p} %"),
@@ -223,14 +235,23 @@ fn range_text(r: Option<(f64, f64)>, unit: &str) -> String {
 
 /// Four significant digits, no trailing zeros.
 fn sig(v: f64) -> String {
+    sig_digits(v, 4)
+}
+
+/// `digits` (≥ 1) significant digits, no trailing zeros; scientific notation below 10⁻³ and
+/// from 10⁶ on.
+pub(crate) fn sig_digits(v: f64, digits: usize) -> String {
     if v == 0.0 || !v.is_finite() {
         return format!("{v}");
     }
-    let mag = v.abs().log10().floor() as i32;
+    let last = digits.max(1) - 1;
+    // the magnitude after rounding to `digits` digits (999.96 → 1000 at 4 digits)
+    let rounded: f64 = format!("{v:.last$e}").parse().unwrap_or(v);
+    let mag = rounded.abs().log10().floor() as i32;
     if !(-3..6).contains(&mag) {
-        return format!("{v:.3e}");
+        return format!("{v:.last$e}");
     }
-    let decimals = (3 - mag).max(0) as usize;
+    let decimals = (last as i32 - mag).max(0) as usize;
     let s = format!("{v:.decimals$}");
     if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()

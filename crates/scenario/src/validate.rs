@@ -66,6 +66,7 @@ impl Scenario {
         {
             return Err(out_of_range("rock.volume_m3", None, v, "> 0 m³"));
         }
+        crate::volume::check_rock_volume(r)?;
         // Every source cell needs a usable rock.
         for &i in &self.release.cells {
             let (row, col) = dem.row_col(i);
