@@ -10,7 +10,9 @@ use rockfall_scenario::{MAX_ENERGY_THRESHOLDS, Scenario};
 use crate::hazard_file::Block;
 use crate::matrix::Matrix;
 
-/// The entry's design block in place of the scenario's.
+/// The entry's design block in place of the scenario's: a volume, a mass at the scenario's
+/// constant density, or a percentile of its `[rock] volume_distribution` (ONR 24810 takes the
+/// 95th–98th); the block is then the same for every rock.
 pub fn set_block(s: &mut Scenario, b: &Block) -> Result<(), (&'static str, String)> {
     if let Some(v) = b.volume_m3 {
         s.rock.volume_m3 = Some(v);
@@ -26,14 +28,19 @@ pub fn set_block(s: &mut Scenario, b: &Block) -> Result<(), (&'static str, Strin
             }
         }
     }
-    if b.percentile.is_some() {
-        return Err((
-            "block_percentile",
-            "the scenario has no [rock] volume_distribution to take a percentile of".into(),
-        ));
+    if let Some(p) = b.percentile {
+        let Some(d) = &s.rock.volume_distribution else {
+            return Err((
+                "block_percentile",
+                "the scenario has no [rock] volume_distribution to take a percentile of".into(),
+            ));
+        };
+        s.rock.volume_m3 = Some(d.percentile_m3(p));
     }
-    if b.volume_m3.is_some() || b.mass_kg.is_some() {
+    // the design block is one block: no spread around it
+    if b.volume_m3.is_some() || b.mass_kg.is_some() || b.percentile.is_some() {
         s.rock.volume_variation_percent = 0.0;
+        s.rock.volume_distribution = None;
     }
     Ok(())
 }
