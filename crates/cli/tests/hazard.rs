@@ -417,3 +417,27 @@ fn frequency_mode_takes_each_release_area_with_its_own_frequency() {
         ],
     );
 }
+
+#[test]
+fn a_users_run_folder_is_not_touched() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (_s2, site2) = common::built_in_site("vaujany-site2");
+    let a = d.join("a");
+    ok(rockfall(&[
+        "run",
+        s(&site2.join("scenario.toml")),
+        "--out",
+        s(&a),
+        "--rocks-per-cell",
+        "20",
+    ]));
+    let before = std::fs::read(a.join("rockfall.qgs")).unwrap();
+    let f = write(
+        d,
+        "h.toml",
+        "[[scenario]]\nreturn_period_years = 30\nrun = \"a\"\n",
+    );
+    ok(rockfall(&["hazard", s(&f), "--out", s(&d.join("out"))]));
+    assert_eq!(std::fs::read(a.join("rockfall.qgs")).unwrap(), before);
+}

@@ -359,3 +359,19 @@ fn relative(dir: &Path, target: &Path) -> String {
         Err(_) => abs(target).to_string_lossy().into_owned(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_matrix_table_counts_the_residual_column() {
+        let m = Matrix::swiss();
+        let classes = [m.classify_event(10.0, 1000.0), m.classify_event(10.0, 50.0)];
+        let t = matrix_table(&m, &classes);
+        assert_eq!(t.columns.len(), 4);
+        let (_, weak) = &t.rows[2];
+        let shares: Vec<f64> = weak.iter().map(|c| c.share_pct).collect();
+        assert_eq!(shares, vec![0.0, 50.0, 0.0, 50.0]);
+    }
+}

@@ -76,3 +76,16 @@ fn the_matrix_thresholds_are_always_counted() {
     add_thresholds(&mut a, &Matrix::austria());
     assert_eq!(a.output.energy_thresholds_kj, [30.0, 100.0, 300.0]);
 }
+
+/// A matrix's own limits are added to the scenario's, ascending.
+#[test]
+fn thresholds_of_the_matrix_are_added() {
+    let mut s = rockfall_sites::build("vaujany-site2").unwrap();
+    let mut m = Matrix::swiss();
+    m.intensity_thresholds_kj = vec![50.0, 500.0];
+    rockfall_hazard::adapt::add_thresholds(&mut s, &m);
+    assert_eq!(
+        s.output.energy_thresholds_kj,
+        vec![30.0, 50.0, 100.0, 300.0, 500.0]
+    );
+}

@@ -119,3 +119,19 @@ fn frequency_mode_adds_sources_and_takes_the_worst_intensity() {
     let e = classify_frequency(&m, &g, &[lacking]).expect_err("no counts above 300 kJ");
     assert_eq!(e, ("a".to_string(), 300.0));
 }
+
+/// The reach rule's limit is inclusive; a cell no rock passed is never reached, even at 0 %.
+#[test]
+fn reach_rule_limit_and_zero() {
+    let m = Matrix::swiss();
+    let s = ScenarioMaps {
+        label: "30y".into(),
+        return_period_years: 30.0,
+        intensity_kj: grid(&[Some(10.0), Some(10.0)]),
+        reach_pct: grid(&[Some(1.0), Some(0.0)]),
+    };
+    let c = classify_scenario(&m, &s, ReachRule::default());
+    assert_eq!((c[0].field, c[0].level), (3, 3));
+    let c = classify_scenario(&m, &s, ReachRule { min_reach_pct: 0.0 });
+    assert_eq!(c[1], Class::default());
+}

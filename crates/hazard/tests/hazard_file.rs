@@ -150,3 +150,13 @@ fn a_matrix_file_with_thresholds_not_increasing_is_named() {
         "{e}"
     );
 }
+
+/// Frequencies on some entries only: scenario mode, and the missing return period named.
+#[test]
+fn mixed_entries_are_scenario_mode() {
+    let e = parse_hazard_file("[[scenario]]\nfrequency_per_year = 0.1\nscenario = \"a.toml\"\n[[scenario]]\nreturn_period_years = 30\nscenario = \"b.toml\"\n", Path::new("/d/h.toml"), None).unwrap_err().to_string();
+    assert!(
+        e.contains("scenario[1].return_period_years") && e.contains("missing"),
+        "{e}"
+    );
+}

@@ -2,7 +2,7 @@
 //! classification must hold.
 
 use proptest::prelude::*;
-use rockfall_hazard::{Class, Level, Matrix, parse_matrix};
+use rockfall_hazard::{Class, FieldLevel, Level, Matrix, parse_matrix};
 
 /// (energy kJ, return period y) → (intensity class, probability class, field, level).
 fn cell(m: &Matrix, e_kj: f64, t_y: f64) -> (u8, u8, u8, Level) {
@@ -169,6 +169,50 @@ fn bad_matrix_files_name_the_key() {
             assert!(e.contains(n), "{text}: {e}");
         }
     }
+}
+
+/// Ties: the stronger intensity wins, then the more frequent.
+#[test]
+fn ties_stronger_intensity_then_more_frequent() {
+    let m = Matrix::swiss();
+    let (a, b) = (m.classify_event(10.0, 100.0), m.classify_event(10.0, 300.0));
+    assert_eq!((a.field, b.field), (2, 1));
+    assert_eq!(a.max(b).field, 2);
+    assert_eq!(b.max(a).field, 2);
+    let (c, d) = (m.classify_event(100.0, 200.0), m.classify_event(10.0, 50.0));
+    assert_eq!((c.field, c.level, d.field, d.level), (4, 2, 2, 2));
+    assert_eq!(c.max(d), c);
+    assert_eq!(d.max(c), c);
+}
+
+/// The residual hazard's upper limit is inclusive and must lie above the last class.
+#[test]
+fn residual_limits() {
+    let m = parse_matrix("base = \"swiss\"\nresidual_max_years = 3000\n").unwrap();
+    assert_eq!(m.classify_event(100.0, 3000.0).level, Level::Residual as u8);
+    assert_eq!(m.classify_event(100.0, 3000.5).level, 0);
+    let e = parse_matrix("base = \"swiss\"\nresidual_max_years = 300\n").unwrap_err();
+    assert_eq!(e.key, "residual_max_years");
+}
+
+/// A split field's two levels may be written in either order.
+#[test]
+fn split_options_in_any_order() {
+    let m = parse_matrix("base = \"swiss\"\n[levels]\n1 = \"yellow\"\n2 = \"yellow\"\n3 = \"blue\"\n4 = [\"yellow\", \"blue\"]\n5 = \"blue\"\n6 = [\"blue\", \"red\"]\n7 = \"red\"\n8 = \"red\"\n9 = \"red\"\n").unwrap();
+    assert_eq!(
+        m.levels[&6],
+        FieldLevel::Split {
+            options: [Level::High, Level::Medium],
+            choice: Level::Medium
+        }
+    );
+    assert_eq!(
+        m.levels[&4],
+        FieldLevel::Split {
+            options: [Level::Medium, Level::Low],
+            choice: Level::Low
+        }
+    );
 }
 
 fn presets() -> impl Strategy<Value = Matrix> {
