@@ -26,6 +26,7 @@ pub mod error;
 pub mod hazard_file;
 pub mod level;
 pub mod matrix;
+mod matrix_check;
 pub mod matrix_file;
 pub mod outputs;
 pub mod runner;
