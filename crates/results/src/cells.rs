@@ -5,7 +5,8 @@
 //! on first touch: one `u32` slot per cell of a touched block (16 KiB a block) pointing into
 //! the list, and a directory of 4 bytes per block of the grid (≈ 0.001 byte per cell). Memory
 //! thus follows the area rocks reach, not the grid. A touched cell costs 160 bytes; a visited
-//! one also carries its two histograms, (322 + 194) × 4 = 2 064 bytes on the heap, plus 4
+//! one also carries its two histograms and its counts above the energy thresholds,
+//! (322 + 194) × 4 + 6 × 8 = 2 112 bytes on the heap, plus 4
 //! bytes per distinct source cell that reached it.
 
 use rockfall_raster::GridGeometry;
