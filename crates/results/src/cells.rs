@@ -4,7 +4,7 @@
 //! deposited in or holding a hit tree) and finds them through blocks of 64 × 64 cells created
 //! on first touch: one `u32` slot per cell of a touched block (16 KiB a block) pointing into
 //! the list, and a directory of 4 bytes per block of the grid (≈ 0.001 byte per cell). Memory
-//! thus follows the area rocks reach, not the grid. A touched cell costs 160 bytes; a visited
+//! thus follows the area rocks reach, not the grid. A touched cell costs 208 bytes; a visited
 //! one also carries its two histograms and its counts above the energy thresholds,
 //! (322 + 194) × 4 + 6 × 8 = 2 112 bytes on the heap, plus 4
 //! bytes per distinct source cell that reached it.

@@ -32,7 +32,7 @@
 //! # Memory
 //!
 //! Per tally: 16 KiB per block of 64 × 64 cells something happened in (and ≈ 0.001 byte per
-//! grid cell for the directory of blocks), plus for every cell something happened in 160 bytes of
+//! grid cell for the directory of blocks), plus for every cell something happened in 208 bytes of
 //! counters (in a list that may hold up to as much again in spare capacity) and, once
 //! visited, its energy and passing-height histograms and its counts of rocks above the
 //! energy thresholds ((322 + 194) × 4 + 6 × 8 = 2 112 bytes, one heap block) and 4 bytes per distinct source cell that reached it: ≈ 2.2–2.4 kB per
