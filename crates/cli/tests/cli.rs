@@ -42,7 +42,7 @@ fn check_accepts_the_rockyfor3d_folder_of_the_vaujany_sites() {
     for name in ["vaujany-site1", "vaujany-site2"] {
         let (_tmp, dir) = site(name);
         let out = ok(rockfall(&["check", s(&dir)]));
-        assert!(out.contains("1 source cells"), "{out}");
+        assert!(out.contains("1 source cell × "), "{out}");
         assert!(out.contains("rockdensity.asc"), "{out}");
     }
 }
@@ -392,4 +392,33 @@ fn a_dem_of_kilometre_cells_is_bad_input() {
         rockfall(&["check", s(&dir.join("scenario.toml"))]),
         &["cell size", "2500", "1000 m"],
     );
+}
+
+#[test]
+fn check_states_only_what_is_released_with_rounded_volumes() {
+    // a rigid scenario released from one point, with a named rock
+    let (_tmp, dir) = site("leine-ramp-40");
+    let out = ok(rockfall(&["check", s(&dir.join("scenario.toml"))]));
+    assert!(
+        out.contains("release  1 point × 1000 rocks = 1000 rocks"),
+        "{out}"
+    );
+    assert!(
+        !out.contains("source cell"),
+        "no source cells to speak of: {out}"
+    );
+    assert!(out.contains("eota221, volume 0.2849 m³"), "{out}");
+    assert!(
+        !out.contains("rock.d1_m"),
+        "a named rock carries its own dimensions: {out}"
+    );
+    // a lumped site released from one cell keeps its block dimensions
+    let (_tmp2, dir2) = site("vaujany-site2");
+    let out = ok(rockfall(&["check", s(&dir2.join("scenario.toml"))]));
+    assert!(
+        out.contains("release  1 source cell × 10000 rocks = 10000 rocks"),
+        "{out}"
+    );
+    assert!(!out.contains("points ×"), "{out}");
+    assert!(out.contains("rock.d1_m           0.95 m"), "{out}");
 }

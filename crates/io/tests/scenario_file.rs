@@ -738,3 +738,42 @@ fn energy_thresholds_parse_round_trip_and_are_checked() {
         );
     }
 }
+
+#[test]
+fn a_bad_diameter_or_dimension_is_named_by_the_key_written() {
+    let text = loads_text_with_rock("diameter_m = -1");
+    fails(&text, &["rock.diameter_m", "-1 m"]);
+    for bad in ["diameter_m = 0", "diameter_m = 75", "diameter_m = nan"] {
+        fails(&loads_text_with_rock(bad), &["rock.diameter_m"]);
+    }
+    fails(
+        &loads_text_with_rock("shape = \"rectangular\"\ndims_m = [1.0, -0.5, 1.0]"),
+        &["rock.dims_m", "-0.5 m"],
+    );
+}
+
+/// MINIMAL with its `[rock]` section's dimension keys replaced by `keys`.
+fn loads_text_with_rock(keys: &str) -> String {
+    let mut out = String::new();
+    let mut in_rock = false;
+    for line in MINIMAL.lines() {
+        if line.starts_with('[') {
+            in_rock = line.trim() == "[rock]";
+            out += line;
+            out += "\n";
+            if in_rock {
+                out += keys;
+                out += "\n";
+            }
+            continue;
+        }
+        let dimension = ["diameter_m", "dims_m", "d1_m", "d2_m", "d3_m", "shape"]
+            .iter()
+            .any(|k| line.trim_start().starts_with(k));
+        if !(in_rock && dimension) {
+            out += line;
+            out += "\n";
+        }
+    }
+    out
+}

@@ -81,16 +81,7 @@ impl Overview {
         let sim = &scenario.simulation;
         add(
             "release",
-            format!(
-                "{} source cells × {} rocks, {} points × {} rocks = {} rocks",
-                rel.cells.len(),
-                sim.rocks_per_cell,
-                rel.points.len(),
-                sim.rocks_per_point,
-                (rel.cells.len() as u64)
-                    .saturating_mul(sim.rocks_per_cell)
-                    .saturating_add((rel.points.len() as u64).saturating_mul(sim.rocks_per_point))
-            ),
+            release_text(rel.cells.len(), rel.points.len(), sim),
         );
         add("rock", rock_text(scenario));
         add("forest", forest_text(scenario, forest));
@@ -155,6 +146,32 @@ fn rock_text(s: &Scenario) -> String {
     }
 }
 
+/// `12 source cells × 100 rocks = 1200 rocks`, `1 point × 1000 rocks = 1000 rocks`, or both
+/// parts when there are cells and points: only what the scenario releases.
+fn release_text(cells: usize, points: usize, sim: &crate::SimulationSettings) -> String {
+    let plural =
+        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    let mut parts = Vec::new();
+    if cells > 0 || points == 0 {
+        parts.push(format!(
+            "{} × {} rocks",
+            plural(cells, "source cell", "source cells"),
+            sim.rocks_per_cell
+        ));
+    }
+    if points > 0 {
+        parts.push(format!(
+            "{} × {} rocks",
+            plural(points, "point", "points"),
+            sim.rocks_per_point
+        ));
+    }
+    let total = (cells as u64)
+        .saturating_mul(sim.rocks_per_cell)
+        .saturating_add((points as u64).saturating_mul(sim.rocks_per_point));
+    format!("{} = {total} rocks", parts.join(", "))
+}
+
 fn rock_shape_text(s: &Scenario) -> String {
     let r = &s.rock;
     let density = range_text(r.density_kg_m3.range(), "kg/m³");
@@ -163,7 +180,7 @@ fn rock_shape_text(s: &Scenario) -> String {
             "{}, volume {}, density {density}",
             r.shape.describe(),
             r.volume_m3
-                .map(|v| format!("{v} m³"))
+                .map(|v| format!("{} m³", sig(v)))
                 .unwrap_or_else(|| "as given".into())
         ),
         _ => {
@@ -297,8 +314,11 @@ fn field_ranges(s: &Scenario) -> Vec<FieldRange> {
     if let RockShape::PerCell(f) = &s.rock.shape {
         push("rock.blshape", "code", f);
     }
-    for (i, d) in s.rock.dims_m.iter().enumerate() {
-        push(["rock.d1_m", "rock.d2_m", "rock.d3_m"][i], "m", d);
+    // a named, file or point-cloud rock carries its own dimensions: d1–d3 mean nothing
+    if matches!(s.rock.shape, RockShape::Block(_) | RockShape::PerCell(_)) {
+        for (i, d) in s.rock.dims_m.iter().enumerate() {
+            push(["rock.d1_m", "rock.d2_m", "rock.d3_m"][i], "m", d);
+        }
     }
     if let Some(ForestSpec::Stands(st)) = &s.forest {
         let units = ["stems/ha", "cm", "cm", "%"];

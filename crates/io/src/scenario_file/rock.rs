@@ -45,6 +45,20 @@ impl Resolver {
                 "give one of `diameter_m`, `dims_m` or `d1_m`/`d2_m`/`d3_m`",
             ));
         }
+        // checked here, where the key the user wrote is known: a diameter becomes d1–d3
+        let size_ok = |d: f64| d.is_finite() && d > 0.0 && d <= 50.0;
+        if let Some(d) = r.diameter_m.filter(|d| !size_ok(*d)) {
+            return Err(self.invalid(
+                "rock.diameter_m",
+                format!("{d} m: a diameter is > 0 and at most 50 m"),
+            ));
+        }
+        if let Some(d) = r.dims_m.and_then(|d| d.into_iter().find(|d| !size_ok(*d))) {
+            return Err(self.invalid(
+                "rock.dims_m",
+                format!("{d} m: each dimension is > 0 and at most 50 m"),
+            ));
+        }
         let dims_m =
             if let Some(d) = r.diameter_m {
                 [Field::Const(d), Field::Const(d), Field::Const(d)]
