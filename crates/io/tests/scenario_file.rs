@@ -502,7 +502,8 @@ fn bad_choices_are_errors_naming_the_key() {
             "dims_m = [0.5, 0.5, 0.5]",
             "dims_m = [0.5, -0.5, 0.5]",
         ),
-        &["rock.d2_m"],
+        // the key written, not the d2_m it becomes
+        &["rock.dims_m", "-0.5 m"],
     );
     fails(&edit(MINIMAL, "seed = 1", "seed = -1"), &["seed", "line 2"]);
     fails(

@@ -21,6 +21,7 @@ mod release;
 pub mod rock;
 mod summary;
 mod validate;
+mod validate_settings;
 pub mod volume;
 
 pub use error::ScenarioError;
