@@ -56,6 +56,7 @@ mod results;
 mod screens;
 mod summary;
 mod tally;
+mod tally_body;
 mod write;
 
 pub use cells::MAX_ENERGY_THRESHOLDS;

@@ -1,0 +1,415 @@
+//! The body of a tally file ([`crate::persist`]): per-rock statistics, screens, the speed
+//! profile, per-cell statistics sorted by cell, trajectory rows, rock records and screen
+//! crossings, little-endian, floats as their bit patterns, histograms as their non-empty bins.
+
+use crate::cells::{CellHists, CellStats};
+use crate::codec::{Dec, DecodeError, Enc};
+use crate::hist::Stat;
+use crate::profile::SpeedHistogram;
+use crate::{
+    CrossingRecord, Event, Motion, Outcome, RockEnd, RockRecord, ScreenCrossing, Tally,
+    TrajectoryRow,
+};
+
+fn stat(e: &mut Enc, s: &Stat) {
+    e.u64(s.count);
+    e.u128(s.sum);
+    e.f64(s.max);
+    e.sparse(&s.hist);
+}
+
+fn read_stat(d: &mut Dec<'_>, s: &mut Stat) -> Result<(), DecodeError> {
+    s.count = d.u64()?;
+    s.sum = d.u128()?;
+    s.max = d.f64()?;
+    d.sparse_into(&mut s.hist, Some)
+}
+
+pub(crate) fn body(e: &mut Enc, t: &Tally) {
+    let r = &t.rock;
+    for &n in &r.outcomes {
+        e.u64(n);
+    }
+    for s in [&r.runout, &r.max_velocity, &r.max_jump, &r.time] {
+        stat(e, s);
+    }
+    for n in [
+        r.tree_impacts,
+        r.stems_broken,
+        r.rebounds,
+        r.events,
+        r.held_at_release,
+    ] {
+        e.u64(n);
+    }
+    for &n in &r.motion_us {
+        e.u64(n);
+    }
+    e.len(t.screens.len());
+    for s in &t.screens {
+        e.u64(s.rocks);
+        e.u64(s.over_capacity);
+        e.u64(s.over_height);
+        for st in [&s.velocity, &s.energy, &s.height] {
+            stat(e, st);
+        }
+    }
+    e.f64(t.profile.bin_m);
+    e.len(t.profile.bins.len());
+    for b in &t.profile.bins {
+        e.sparse(&b.counts);
+        e.f64(b.max_ms);
+    }
+    let mut cells: Vec<&CellStats> = t.cells.touched().iter().collect();
+    cells.sort_unstable_by_key(|c| c.cell);
+    e.len(cells.len());
+    let thresholds = t.cells.thresholds().len();
+    for c in cells {
+        cell(e, c, thresholds);
+    }
+    let mut rows: Vec<_> = t.rows.iter().collect();
+    rows.sort_unstable_by_key(|(rock, seq, _)| (*rock, *seq));
+    e.len(rows.len());
+    for (rock, seq, row) in rows {
+        e.u64(*rock);
+        e.u64(*seq);
+        trajectory_row(e, row);
+    }
+    let mut records: Vec<_> = t.rock_records.iter().collect();
+    records.sort_unstable_by_key(|r| r.rock_id);
+    e.len(records.len());
+    for r in records {
+        rock_record(e, r);
+    }
+    let mut crossings: Vec<_> = t.crossing_records.iter().collect();
+    crossings.sort_unstable_by_key(|c| (c.rock_id, c.seq));
+    e.len(crossings.len());
+    for c in crossings {
+        crossing_record(e, c);
+    }
+}
+
+fn crossing_record(e: &mut Enc, c: &CrossingRecord) {
+    e.u64(c.rock_id);
+    e.len(c.screen);
+    e.u32(c.seq);
+    let x = &c.crossing;
+    for v in [
+        x.velocity_ms,
+        x.energy_j,
+        x.jump_height_m,
+        x.x_m,
+        x.y_m,
+        c.mass_kg,
+    ] {
+        e.f64(v);
+    }
+}
+
+fn read_crossing_record(d: &mut Dec<'_>, screens: usize) -> Result<CrossingRecord, DecodeError> {
+    let rock_id = d.u64()?;
+    let at = d.pos();
+    let screen = d.u64()? as usize;
+    if screen >= screens {
+        return Err(d.corrupt(at, format!("crossing of screen {screen} of {screens}")));
+    }
+    let seq = d.u32()?;
+    let [velocity_ms, energy_j, jump_height_m, x_m, y_m, mass_kg] =
+        [d.f64()?, d.f64()?, d.f64()?, d.f64()?, d.f64()?, d.f64()?];
+    Ok(CrossingRecord {
+        rock_id,
+        screen,
+        seq,
+        crossing: ScreenCrossing {
+            velocity_ms,
+            energy_j,
+            jump_height_m,
+            x_m,
+            y_m,
+        },
+        mass_kg,
+    })
+}
+
+pub(crate) fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeError> {
+    let r = &mut t.rock;
+    for n in &mut r.outcomes {
+        *n = d.u64()?;
+    }
+    for s in [
+        &mut r.runout,
+        &mut r.max_velocity,
+        &mut r.max_jump,
+        &mut r.time,
+    ] {
+        read_stat(d, s)?;
+    }
+    for n in [
+        &mut r.tree_impacts,
+        &mut r.stems_broken,
+        &mut r.rebounds,
+        &mut r.events,
+        &mut r.held_at_release,
+    ] {
+        *n = d.u64()?;
+    }
+    for n in &mut r.motion_us {
+        *n = d.u64()?;
+    }
+    let at = d.pos();
+    let screens = d.len(1)?;
+    if screens != t.screens.len() {
+        return Err(DecodeError::Corrupt {
+            offset: at,
+            what: format!("{screens} screens, the layout has {}", t.screens.len()),
+        });
+    }
+    for s in &mut t.screens {
+        s.rocks = d.u64()?;
+        s.over_capacity = d.u64()?;
+        s.over_height = d.u64()?;
+        for st in [&mut s.velocity, &mut s.energy, &mut s.height] {
+            read_stat(d, st)?;
+        }
+    }
+    let bin_m = d.f64()?;
+    if bin_m.to_bits() != t.profile.bin_m.to_bits() {
+        return Err(d.corrupt(d.pos(), format!("profile bins of {bin_m} m")));
+    }
+    let bins = d.len(16)?;
+    t.profile.bins = Vec::with_capacity(bins);
+    for _ in 0..bins {
+        let mut h = SpeedHistogram::new();
+        d.sparse_into(&mut h.counts, Some)?;
+        h.max_ms = d.f64()?;
+        t.profile.bins.push(h);
+    }
+    let n = d.len(8)?;
+    let len = t.layout().geometry.len();
+    let thresholds = t.cells.thresholds().len();
+    let mut cells = Vec::with_capacity(n);
+    for _ in 0..n {
+        let c = read_cell(d, thresholds)?;
+        if c.cell >= len {
+            return Err(d.corrupt(d.pos(), format!("cell {} outside the grid", c.cell)));
+        }
+        cells.push(c);
+    }
+    t.cells.absorb(cells);
+    let n = d.len(16)?;
+    t.rows.reserve(n);
+    for _ in 0..n {
+        let (rock, seq) = (d.u64()?, d.u64()?);
+        t.rows.push((rock, seq, read_trajectory_row(d)?));
+    }
+    let n = d.len(8)?;
+    t.rock_records.reserve(n);
+    for _ in 0..n {
+        t.rock_records.push(read_rock_record(d)?);
+    }
+    let n = d.len(60)?;
+    t.crossing_records.reserve(n);
+    for _ in 0..n {
+        let screens = t.screens.len();
+        t.crossing_records.push(read_crossing_record(d, screens)?);
+    }
+    Ok(())
+}
+
+fn cell(e: &mut Enc, c: &CellStats, thresholds: usize) {
+    e.len(c.cell);
+    for n in [
+        c.visits,
+        c.reached,
+        c.deposited,
+        c.tree_impacts,
+        c.stems_broken,
+    ] {
+        e.u64(n);
+    }
+    e.f64(c.tree_height_max_m);
+    e.u128(c.energy_sum);
+    e.u128(c.height_sum);
+    e.u128(c.energy_sq_sum);
+    e.u128(c.height_sq_sum);
+    for v in [
+        c.energy_max_j,
+        c.height_max_m,
+        c.velocity_max_ms,
+        c.el_angle_max_deg,
+    ] {
+        e.f64(v);
+    }
+    match &c.hists {
+        None => e.u8(0),
+        Some(h) => {
+            e.u8(1);
+            e.sparse(&h.energy);
+            e.sparse(&h.height);
+            for &n in &h.above[..thresholds] {
+                e.u64(n);
+            }
+        }
+    }
+    e.len(c.sources.len());
+    for &s in &c.sources {
+        e.u32(s);
+    }
+}
+
+fn read_cell(d: &mut Dec<'_>, thresholds: usize) -> Result<CellStats, DecodeError> {
+    let at = d.pos();
+    let cell = usize::try_from(d.u64()?).map_err(|_| d.corrupt(at, "cell index".into()))?;
+    let mut c = CellStats::new(cell);
+    for n in [
+        &mut c.visits,
+        &mut c.reached,
+        &mut c.deposited,
+        &mut c.tree_impacts,
+        &mut c.stems_broken,
+    ] {
+        *n = d.u64()?;
+    }
+    c.tree_height_max_m = d.f64()?;
+    c.energy_sum = d.u128()?;
+    c.height_sum = d.u128()?;
+    c.energy_sq_sum = d.u128()?;
+    c.height_sq_sum = d.u128()?;
+    for v in [
+        &mut c.energy_max_j,
+        &mut c.height_max_m,
+        &mut c.velocity_max_ms,
+        &mut c.el_angle_max_deg,
+    ] {
+        *v = d.f64()?;
+    }
+    if d.u8()? == 1 {
+        let mut h = CellHists::empty();
+        let narrow = |c: u64| u32::try_from(c).ok();
+        d.sparse_into(&mut h.energy, narrow)?;
+        d.sparse_into(&mut h.height, narrow)?;
+        for n in &mut h.above[..thresholds] {
+            *n = d.u64()?;
+        }
+        c.hists = Some(h);
+    }
+    let n = d.len(4)?;
+    c.sources = (0..n).map(|_| d.u32()).collect::<Result<_, _>>()?;
+    if !c.sources.windows(2).all(|w| w[0] < w[1]) {
+        return Err(d.corrupt(at, format!("sources of cell {cell} not ascending")));
+    }
+    Ok(c)
+}
+
+const EVENTS: [Event; 5] = [
+    Event::Flight,
+    Event::Impact,
+    Event::Roll,
+    Event::Tree,
+    Event::Stop,
+];
+
+fn trajectory_row(e: &mut Enc, r: &TrajectoryRow) {
+    e.u64(r.rock_id);
+    for v in r.values() {
+        e.f64(v);
+    }
+    e.u8(EVENTS.iter().position(|&k| k == r.event).unwrap_or(0) as u8);
+}
+
+fn read_trajectory_row(d: &mut Dec<'_>) -> Result<TrajectoryRow, DecodeError> {
+    let rock_id = d.u64()?;
+    let mut v = [0.0; 12];
+    for x in &mut v {
+        *x = d.f64()?;
+    }
+    let at = d.pos();
+    let k = d.u8()?;
+    let event = *(EVENTS.get(k as usize)).ok_or_else(|| d.corrupt(at, format!("event {k}")))?;
+    Ok(TrajectoryRow::from_values(rock_id, v, event))
+}
+
+fn rock_record(e: &mut Enc, r: &RockRecord) {
+    e.u64(r.rock_id);
+    e.len(r.source_cell);
+    for v in r.start_m {
+        e.f64(v);
+    }
+    e.f64(r.volume_m3);
+    e.f64(r.mass_kg);
+    let end = &r.end;
+    let (kind, cell) = match end.outcome {
+        Outcome::Stopped { cell } => (0, cell),
+        Outcome::NetStopped { cell } => (1, cell),
+        Outcome::LeftDem => (2, 0),
+        Outcome::TimeLimit => (3, 0),
+        Outcome::Failed => (4, 0),
+    };
+    e.u8(kind);
+    e.len(cell);
+    for v in [
+        end.x_m,
+        end.y_m,
+        end.runout_m,
+        end.max_velocity_ms,
+        end.max_jump_height_m,
+        end.time_s,
+    ] {
+        e.f64(v);
+    }
+    for n in [end.tree_impacts, end.stems_broken, end.rebounds, end.events] {
+        e.u32(n);
+    }
+    for t in end.motion.as_array() {
+        e.f64(t);
+    }
+}
+
+fn read_rock_record(d: &mut Dec<'_>) -> Result<RockRecord, DecodeError> {
+    let rock_id = d.u64()?;
+    let source_cell = d.u64()? as usize;
+    let start_m = [d.f64()?, d.f64()?, d.f64()?];
+    let (volume_m3, mass_kg) = (d.f64()?, d.f64()?);
+    let at = d.pos();
+    let kind = d.u8()?;
+    let cell = d.u64()? as usize;
+    let outcome = match kind {
+        0 => Outcome::Stopped { cell },
+        1 => Outcome::NetStopped { cell },
+        2 => Outcome::LeftDem,
+        3 => Outcome::TimeLimit,
+        4 => Outcome::Failed,
+        k => return Err(d.corrupt(at, format!("outcome {k}"))),
+    };
+    let [
+        x_m,
+        y_m,
+        runout_m,
+        max_velocity_ms,
+        max_jump_height_m,
+        time_s,
+    ] = [d.f64()?, d.f64()?, d.f64()?, d.f64()?, d.f64()?, d.f64()?];
+    let [tree_impacts, stems_broken, rebounds, events] = [d.u32()?, d.u32()?, d.u32()?, d.u32()?];
+    let motion = Motion::from_array([d.f64()?, d.f64()?, d.f64()?, d.f64()?, d.f64()?]);
+    Ok(RockRecord {
+        rock_id,
+        source_cell,
+        start_m,
+        volume_m3,
+        mass_kg,
+        end: RockEnd {
+            outcome,
+            x_m,
+            y_m,
+            runout_m,
+            max_velocity_ms,
+            max_jump_height_m,
+            tree_impacts,
+            stems_broken,
+            rebounds,
+            time_s,
+            events,
+            motion,
+        },
+    })
+}
