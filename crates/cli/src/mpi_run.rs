@@ -6,7 +6,8 @@
 //! whatever happened before it, so that a failing rank never leaves the others waiting:
 //! after reading, every rank reports ok or its error to rank 0, which broadcasts the verdict;
 //! after simulating, every rank sends its status and its tally file's bytes to rank 0. Errors
-//! are printed by rank 0 alone, naming the rank.
+//! are printed by rank 0 alone, naming the rank; the other ranks then exit 0, so that
+//! `mpirun` never aborts rank 0 before it has printed, and returns rank 0's code.
 
 use crate::Failure;
 use crate::commands::load_simulation;
@@ -74,10 +75,10 @@ pub fn run(input: &Path, overrides: &Overrides, out: &Path, ascii: bool) -> Resu
     let mine = bytes.unwrap_or_default();
     let gathered = gather(&world, status, message.as_bytes(), &mine);
     let Some(ranks) = gathered else {
-        // the other ranks are done: rank 0 reports for everyone
+        // the other ranks are done: rank 0 reports for everyone and exits with the code
         return match status {
             0 => Ok(()),
-            c => Err(Failure::Rank(c as u8)),
+            _ => Err(Failure::Rank(QUIET_EXIT)),
         };
     };
     let mut parts = Vec::with_capacity(ranks.len());
@@ -107,9 +108,14 @@ pub fn run(input: &Path, overrides: &Overrides, out: &Path, ascii: bool) -> Resu
         .map_err(|e| Failure::Internal(anyhow!("rank 0 cannot write the output: {}", e.text())))
 }
 
+/// The exit code of a rank other than 0 once rank 0 knows of a failure: 0, quietly. Were it
+/// non-zero, `mpirun` could abort rank 0 before rank 0 printed the message; rank 0 exits
+/// with the failure's code, which `mpirun` returns.
+const QUIET_EXIT: u8 = 0;
+
 /// Every rank says whether it failed (`failure`); rank 0 prints the failures and broadcasts
 /// the verdict. Returns the failure to exit with: rank 0's own or the first rank's, printed
-/// once by rank 0 (other ranks exit quietly with the code).
+/// once by rank 0 (other ranks exit quietly, [`QUIET_EXIT`]).
 fn agree(world: &SimpleCommunicator, failure: Option<&Failure>) -> Result<(), Failure> {
     let status = failure.map_or(0, code);
     let message = failure.map(Failure::text).unwrap_or_default();
@@ -135,7 +141,7 @@ fn agree(world: &SimpleCommunicator, failure: Option<&Failure>) -> Result<(), Fa
                 Failure::Internal(e)
             })
         }
-        (c, None) => Err(Failure::Rank(c as u8)),
+        (_, None) => Err(Failure::Rank(QUIET_EXIT)),
     }
 }
 
