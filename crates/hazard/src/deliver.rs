@@ -94,13 +94,6 @@ fn summary<'a>(
     }
 }
 
-fn level_grid(map: &HazardMap) -> Grid<f64> {
-    let v = map.classes.iter().map(|c| f64::from(c.level)).collect();
-    Grid::from_values(map.geometry, v)
-        .expect("one class per cell")
-        .with_crs(map.crs.clone())
-}
-
 /// The matrix as the page draws it, with the share of the hazard area (levels 1–4) in each
 /// of its cells (intensity class × probability class, the residual column included).
 fn matrix_table(m: &Matrix, classes: &[Class]) -> MatrixTable {
@@ -154,7 +147,7 @@ fn write_page(
 ) -> Result<Vec<PathBuf>, HazardError> {
     let m = &spec.matrix;
     let a = areas(&map.classes, map.geometry.cell_area_m2());
-    let levels = level_grid(map);
+    let levels = crate::outputs::class_grid(map, &map.classes, |c| c.level)?;
     let legend = (a.levels.iter())
         .map(|l| {
             let level = Level::from_code(l.level).unwrap_or(Level::None);

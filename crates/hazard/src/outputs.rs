@@ -143,11 +143,15 @@ pub struct ScenarioSummary {
 }
 
 /// A class raster: one value per cell from `f`, 0 where nothing.
-fn class_grid(map: &HazardMap, classes: &[Class], f: impl Fn(&Class) -> u8) -> Grid<f64> {
+pub(crate) fn class_grid(
+    map: &HazardMap,
+    classes: &[Class],
+    f: impl Fn(&Class) -> u8,
+) -> Result<Grid<f64>, HazardError> {
     let values = classes.iter().map(|c| f64::from(f(c))).collect();
     Grid::from_values(map.geometry, values)
-        .expect("one class per cell")
-        .with_crs(map.crs.clone())
+        .map(|g| g.with_crs(map.crs.clone()))
+        .ok_or_else(|| HazardError::Output("internal: not one class per cell".into()))
 }
 
 fn write_raster(
@@ -204,7 +208,7 @@ pub fn write_rasters(
     write_raster(
         out,
         "Hazard_level",
-        &class_grid(map, all, |c| c.level),
+        &class_grid(map, all, |c| c.level)?,
         i32,
         &mut files,
     )?;
@@ -212,7 +216,7 @@ pub fn write_rasters(
     write_raster(
         out,
         "Hazard_field",
-        &class_grid(map, all, |c| c.field),
+        &class_grid(map, all, |c| c.field)?,
         i32,
         &mut files,
     )?;
@@ -220,7 +224,7 @@ pub fn write_rasters(
     write_raster(
         out,
         "Intensity_class",
-        &class_grid(map, all, |c| c.intensity),
+        &class_grid(map, all, |c| c.intensity)?,
         i32,
         &mut files,
     )?;
@@ -228,7 +232,7 @@ pub fn write_rasters(
     write_raster(
         out,
         "Return_period_class",
-        &class_grid(map, all, |c| c.probability),
+        &class_grid(map, all, |c| c.probability)?,
         i32,
         &mut files,
     )?;
@@ -247,7 +251,7 @@ pub fn write_rasters(
         write_raster(
             out,
             &ic,
-            &class_grid(map, &s.classes, |c| c.intensity),
+            &class_grid(map, &s.classes, |c| c.intensity)?,
             i32,
             &mut files,
         )?;
@@ -255,7 +259,7 @@ pub fn write_rasters(
         write_raster(
             out,
             &pc,
-            &class_grid(map, &s.classes, |c| c.probability),
+            &class_grid(map, &s.classes, |c| c.probability)?,
             i32,
             &mut files,
         )?;
@@ -268,7 +272,7 @@ pub fn write_rasters(
         };
         let cells = lambda.iter().map(|&l| (l > 0.0).then(|| 1.0 / l)).collect();
         let mut g = Grid::from_options(map.geometry, cells)
-            .expect("one value per cell")
+            .ok_or_else(|| HazardError::Output("internal: not one value per cell".into()))?
             .with_crs(map.crs.clone());
         g.set_nodata_value(Some(-9999.0));
         write_raster(out, &name, &g, SampleType::F32, &mut files)?;

@@ -119,29 +119,7 @@ pub fn write_layers_project(
     dem: Option<&Path>,
 ) -> Result<PathBuf, ReportError> {
     let dir = path.parent().unwrap_or(Path::new("."));
-    let mut all: Vec<MapLayer> = (layers.iter())
-        .map(|l| MapLayer {
-            id: layer_id(&l.name),
-            name: l.name.clone(),
-            source: l.source.clone(),
-            kind: if l.vector.is_some() {
-                "vector"
-            } else {
-                "raster"
-            },
-            provider: if l.vector.is_some() { "ogr" } else { "gdal" },
-            body: match l.vector {
-                Some(geometry) => geometry.into(),
-                None => l.style.clone(),
-            },
-            renderer: if l.vector.is_some() {
-                l.style.clone()
-            } else {
-                String::new()
-            },
-            checked: l.checked,
-        })
-        .collect();
+    let mut all: Vec<MapLayer> = layers.iter().map(MapLayer::from).collect();
     if let Some(dem) = dem.filter(|p| p.is_file()) {
         all.push(MapLayer {
             id: layer_id("hillshade"),
@@ -204,6 +182,29 @@ fn srs(crs: Option<&Crs>) -> String {
         xml_escape(&wkt),
         xml_escape(&crs.describe())
     )
+}
+
+impl From<&ProjectLayer> for MapLayer {
+    fn from(l: &ProjectLayer) -> MapLayer {
+        MapLayer {
+            id: layer_id(&l.name),
+            name: l.name.clone(),
+            source: l.source.clone(),
+            kind: if l.vector.is_some() {
+                "vector"
+            } else {
+                "raster"
+            },
+            provider: if l.vector.is_some() { "ogr" } else { "gdal" },
+            body: l.vector.map_or(l.style.clone(), str::to_string),
+            renderer: if l.vector.is_some() {
+                l.style.clone()
+            } else {
+                String::new()
+            },
+            checked: l.checked,
+        }
+    }
 }
 
 /// A layer's entry in the layer tree.
@@ -278,24 +279,7 @@ pub fn add_layers(path: &Path, layers: &[ProjectLayer]) -> Result<(), ReportErro
         .to_string();
     let mut text = text.clone();
     for l in layers.iter().rev() {
-        let m = MapLayer {
-            id: layer_id(&l.name),
-            name: l.name.clone(),
-            source: l.source.clone(),
-            kind: if l.vector.is_some() {
-                "vector"
-            } else {
-                "raster"
-            },
-            provider: if l.vector.is_some() { "ogr" } else { "gdal" },
-            body: l.vector.map_or(l.style.clone(), str::to_string),
-            renderer: if l.vector.is_some() {
-                l.style.clone()
-            } else {
-                String::new()
-            },
-            checked: l.checked,
-        };
+        let m = MapLayer::from(l);
         text = remove_layer(&text, &m.id);
         text = text.replacen(
             "  <layer-tree-group>\n",
