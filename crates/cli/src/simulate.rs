@@ -6,7 +6,7 @@ use anyhow::anyhow;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rockfall_forest::Forest;
 use rockfall_report::ReportInput;
-use rockfall_results::{ForestEffect, ForestEffectSummary, Results};
+use rockfall_results::{ForestEffect, ForestEffectSummary, MIN_REACH_PCT, Results};
 use rockfall_scenario::Scenario;
 use rockfall_sim::{Observer, Overrides, SimError, Simulation};
 use std::io::IsTerminal;
@@ -359,11 +359,27 @@ fn print_effect(e: &ForestEffectSummary) {
     if let Some(d) = e.runout_p95_m.difference {
         println!("  run-out p95: {d:+.1} m");
     }
-    if let Some(d) = e.reach_probability_pp.cells.mean_difference {
-        println!("  reach probability, mean over reached cells: {d:+.2} percentage points");
+    let bare = &e.on_cells_reached_without_forest;
+    println!(
+        "  on the {} cells reached without the forest (a cell the forest kept every rock from counts 0):",
+        bare.e_95_kj.cells
+    );
+    if let Some(d) = bare.reach_probability_pp.mean_difference {
+        println!("    reach probability, mean: {d:+.2} percentage points");
     }
-    if let Some(d) = e.e_95_kj.mean_difference {
-        println!("  E_95, mean over reached cells: {d:+.1} kJ");
+    if let Some(d) = bare.e_95_kj.mean_difference {
+        println!("    E_95, mean: {d:+.1} kJ");
+    }
+    for a in &e.area_e_95_above {
+        if let (Some(w), Some(o)) = (a.area_m2.with_forest, a.area_m2.without_forest) {
+            let e_kj = a.energy_kj;
+            println!(
+                "  area reached by ≥ {MIN_REACH_PCT} % of rocks with E_95 > {e_kj} kJ: \
+                 {:.2} ha with, {:.2} ha without",
+                w / 1e4,
+                o / 1e4
+            );
+        }
     }
 }
 

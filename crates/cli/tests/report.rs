@@ -22,14 +22,61 @@ const GEO_TRANSFORM: [f64; 6] = [939_350.0, 2.5, 0.0, 6_460_400.0, 0.0, -2.5];
 /// The demo's output folder, written once for every test of this file (under Cargo's
 /// temporary folder for integration tests, replaced on each run).
 fn demo() -> &'static Path {
-    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    &demo_run().0
+}
+
+/// The demo's folder and what it printed, run once.
+fn demo_run() -> &'static (PathBuf, String) {
+    static DIR: OnceLock<(PathBuf, String)> = OnceLock::new();
     DIR.get_or_init(|| {
         let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-demo");
         let _ = std::fs::remove_dir_all(&dir);
         let stdout = ok(rockfall(&["demo", "--out", s(&dir)]));
         assert!(stdout.contains("report.html"), "{stdout}");
-        dir
+        (dir, stdout)
     })
+}
+
+/// The forest-effect headline compares the two runs on one set of cells (those reached without
+/// the forest), where the forest lowers E_95; the mean over each run's own cells (its old
+/// headline) said the opposite because the forest run reaches other cells.
+#[test]
+fn the_demo_headline_compares_the_runs_on_one_set_of_cells() {
+    let (dir, stdout) = demo_run();
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("forest_effect.json")).unwrap())
+            .unwrap();
+    let bare = &json["on_cells_reached_without_forest"];
+    let cells = bare["e_95_kj"]["cells"].as_u64().unwrap();
+    let e95 = bare["e_95_kj"]["mean_difference"].as_f64().unwrap();
+    assert_eq!(
+        cells,
+        json["reach_probability_pp"]["cells_reached_without_forest"]
+            .as_u64()
+            .unwrap()
+    );
+    assert!(
+        e95 < 0.0,
+        "the forest lowers E_95 where the bare rocks went: {e95}"
+    );
+    let line = format!("on the {cells} cells reached without the forest");
+    assert!(stdout.contains(&line), "{stdout}");
+    assert!(
+        stdout.contains(&format!("E_95, mean: {e95:+.1} kJ")),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("mean over reached cells"), "{stdout}");
+    let areas = json["area_e_95_above"].as_array().unwrap();
+    assert_eq!(
+        areas.len(),
+        3,
+        "one area per default threshold (30, 100, 300 kJ)"
+    );
+    assert!(stdout.contains("E_95 > 300 kJ"), "{stdout}");
+    let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    assert!(html.contains(&format!(
+        "Over the {cells} cells reached without the forest"
+    )));
 }
 
 /// The figures of the demo's report, in order.

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use rockfall_results::Summary;
+use rockfall_results::{ForestEffectSummary, MIN_REACH_PCT, Summary};
 use rockfall_scenario::Engine;
 
 use crate::html::FigureSection;
@@ -80,15 +80,13 @@ pub(crate) fn figure_sections(
     summary: &Summary,
 ) -> Result<Vec<FigureSection>, ReportError> {
     let mut sections = vec![maps(dir, input, base, layers.maps, &layers.skipped)?];
-    if input.forest_effect.is_some() {
-        let intro = "The same rocks run with the forest minus without it. Negative (blue): the \
-                     forest lowers the hazard. The reach-probability difference is uncoloured \
-                     where it is zero; the energy difference where neither run got there.";
+    if let Some(effect) = input.forest_effect {
+        let intro = effect_intro(effect.summary());
         let (figures, skipped) = (layers.effect, &layers.effect_skipped);
         sections.push(section(
             "forest-effect",
             "Forest effect",
-            intro,
+            &intro,
             figures,
             skipped,
         ));
@@ -104,6 +102,47 @@ pub(crate) fn figure_sections(
         sections.push(t);
     }
     Ok(sections)
+}
+
+/// The forest-effect section's introduction, with its headline figures: over the cells the
+/// run without the forest reached (one set of cells for both runs), and the areas above each
+/// energy threshold.
+fn effect_intro(e: &ForestEffectSummary) -> String {
+    let mut intro = String::from(
+        "The same rocks run with the forest minus without it. Negative (blue): the forest \
+         lowers the hazard. The reach-probability difference is uncoloured where it is zero; \
+         the energy difference where neither run got there.",
+    );
+    let bare = &e.on_cells_reached_without_forest;
+    if let (Some(p), Some(k)) = (
+        bare.reach_probability_pp.mean_difference,
+        bare.e_95_kj.mean_difference,
+    ) {
+        intro.push_str(&format!(
+            " Over the {} cells reached without the forest (a cell the forest kept every rock \
+             from counts 0), the forest changes the reach probability by {p:+.2} percentage \
+             points and E_95 by {k:+.1} kJ on average.",
+            bare.e_95_kj.cells
+        ));
+    }
+    let areas: Vec<String> = (e.area_e_95_above.iter())
+        .filter_map(|a| {
+            let (w, o) = (a.area_m2.with_forest?, a.area_m2.without_forest?);
+            Some(format!(
+                "> {} kJ: {:.2} ha with, {:.2} ha without",
+                a.energy_kj,
+                w / 1e4,
+                o / 1e4
+            ))
+        })
+        .collect();
+    if !areas.is_empty() {
+        intro.push_str(&format!(
+            " Area reached by at least {MIN_REACH_PCT} % of the rocks with E_95 {}.",
+            areas.join("; ")
+        ));
+    }
+    intro
 }
 
 /// A section; `skipped` figures are named after the introduction.

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use rockfall_raster::{Grid, SampleType};
 use serde::{Deserialize, Serialize};
 
+use crate::convergence::MIN_REACH_PCT;
 use crate::results::{Kind, NODATA, RasterCells};
 use crate::summary::finite;
 use crate::write::{create_dir, write_json, write_raster};
@@ -37,6 +38,15 @@ pub struct ForestEffectSummary {
     pub reach_probability_pp: ReachDifferences,
     /// `Forest_effect_E_95`, kJ, over cells with data in either run.
     pub e_95_kj: CellDifferences,
+    /// Both differences over one set of cells: those the run without the forest reached. The
+    /// headline: unlike [`ForestEffectSummary::e_95_kj`], whose cells differ between the runs
+    /// (the forest run reaches other cells, often near the source where energies are high),
+    /// it compares like with like.
+    pub on_cells_reached_without_forest: BareCells,
+    /// Area reached by at least [`MIN_REACH_PCT`] of the rocks where `E_95` exceeds each of the
+    /// run's energy thresholds (`[output] energy_thresholds_kj`), with and without the forest:
+    /// the footprint a hazard map draws (`rockfall hazard`'s default reach rule).
+    pub area_e_95_above: Vec<AreaAbove>,
     /// Share of rocks stopped inside the DEM.
     pub stopped_fraction: Difference,
     /// Share of rocks that left the DEM.
@@ -107,6 +117,26 @@ pub struct ReachDifferences {
     pub cells_reached_with_forest: u64,
     /// Cells reached without it.
     pub cells_reached_without_forest: u64,
+}
+
+/// The forest's effect over the cells the run without the forest reached: a cell the run with
+/// the forest did not reach counts 0 % and 0 kJ there.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct BareCells {
+    /// Reach probability, percentage points.
+    pub reach_probability_pp: CellDifferences,
+    /// `E_95`, kJ.
+    pub e_95_kj: CellDifferences,
+}
+
+/// The area reached by at least [`MIN_REACH_PCT`] of the rocks where `E_95` exceeds one
+/// energy, in each run.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct AreaAbove {
+    /// The energy, kJ (strictly above it).
+    pub energy_kj: f64,
+    /// Area, m², {with, without, difference}.
+    pub area_m2: Difference,
 }
 
 /// The forest's effect at one screen.
@@ -198,6 +228,20 @@ impl ForestEffect {
 
         let (sw, so) = (with_forest.summary(), without_forest.summary());
         let either = |i| reached(&pw, i) || reached(&po, i);
+        let bare = |i| reached(&po, i);
+        let cell_m2 = geometry.cell_size_m * geometry.cell_size_m;
+        let area_above = |reach: &RasterCells<'_>, e95: &RasterCells<'_>, e: f64| {
+            let n = (0..geometry.len()).filter(|&i| {
+                reach.at(i).is_some_and(|r| r >= MIN_REACH_PCT) && e95.at(i).is_some_and(|v| v > e)
+            });
+            Some(n.count() as f64 * cell_m2)
+        };
+        let area_e_95_above = (with_forest.layout.energy_thresholds_kj.iter())
+            .map(|&e| AreaAbove {
+                energy_kj: e,
+                area_m2: Difference::of(area_above(&rw, &ew, e), area_above(&ro, &eo, e)),
+            })
+            .collect();
         let count =
             |g: &RasterCells<'_>| (0..geometry.len()).filter(|&i| reached(g, i)).count() as u64;
         let d = |f: fn(&crate::Summary) -> Option<f64>| Difference::of(f(&sw), f(&so));
@@ -213,6 +257,11 @@ impl ForestEffect {
                 cells_reached_without_forest: count(&po),
             },
             e_95_kj: describe(&e95, |_| true),
+            on_cells_reached_without_forest: BareCells {
+                reach_probability_pp: describe(&reach, bare),
+                e_95_kj: describe(&e95, bare),
+            },
+            area_e_95_above,
             stopped_fraction: d(|s| s.stopped_fraction),
             left_dem_fraction: d(|s| s.left_dem_fraction),
             runout_p50_m: d(|s| s.runout_m.p50),

@@ -64,8 +64,8 @@ pub use codec::{DecodeError, Fnv1a};
 pub use convergence::{ConvergenceSummary, MIN_REACH_PCT, MapChange, MapSnapshot};
 pub use distribution::{Bin, Distribution, Quantity};
 pub use forest_effect::{
-    CellDifferences, Difference, ForestEffect, ForestEffectSummary, ReachDifferences,
-    ScreenDifference,
+    AreaAbove, BareCells, CellDifferences, Difference, ForestEffect, ForestEffectSummary,
+    ReachDifferences, ScreenDifference,
 };
 pub use hist::PERCENTILE_RELATIVE_ERROR;
 pub use parameters::{LegacySolver, LumpedParameters, Parameters, RigidParameters, RunSize};

@@ -188,6 +188,61 @@ fn forest_effect_is_the_difference_of_two_runs() {
     assert_eq!(text, serde_json::to_string_pretty(&s).unwrap() + "\n");
 }
 
+/// The headline compares like with like: both differences over the cells the run without the
+/// forest reached (a cell the forest run missed counts 0), and the areas above each energy
+/// threshold of the cells reached by ≥ 1 % of the rocks. Expected values from the rasters.
+#[test]
+fn forest_effect_headline_is_over_the_bare_runs_cells() {
+    let with = run(0..3);
+    let without = run(100..104);
+    let s = ForestEffect::new(&with, &without).summary().clone();
+    let r = |res: &Results, name: &str| res.raster(name).unwrap();
+    let (pw, po) = (r(&with, "Nr_passages"), r(&without, "Nr_passages"));
+    let (rw, ro) = (
+        r(&with, "Reach_probability"),
+        r(&without, "Reach_probability"),
+    );
+    let (ew, eo) = (r(&with, "E_95"), r(&without, "E_95"));
+    let at = |g: &rockfall_raster::Grid<f64>, i| g.get_index(i).unwrap_or(0.0);
+    let bare: Vec<usize> = (0..30).filter(|&i| at(&po, i) > 0.0).collect();
+    assert!(
+        bare.iter().any(|&i| at(&pw, i) == 0.0),
+        "a bare cell the forest run missed"
+    );
+    let mean =
+        |f: &dyn Fn(usize) -> f64| bare.iter().map(|&i| f(i)).sum::<f64>() / bare.len() as f64;
+    let h = s.on_cells_reached_without_forest;
+    assert_eq!(h.e_95_kj.cells, bare.len() as u64);
+    let e = mean(&|i| at(&ew, i) - at(&eo, i));
+    assert!(
+        (h.e_95_kj.mean_difference.unwrap() - e).abs() < 1e-9,
+        "{h:?} {e}"
+    );
+    let p = mean(&|i| at(&rw, i) - at(&ro, i));
+    assert!((h.reach_probability_pp.mean_difference.unwrap() - p).abs() < 1e-9);
+    // the whole-union figure differs: the forest run's own cells are in it
+    assert_ne!(s.e_95_kj.cells, h.e_95_kj.cells);
+
+    let thresholds = &layout().energy_thresholds_kj;
+    assert_eq!(s.area_e_95_above.len(), thresholds.len());
+    for (a, &t) in s.area_e_95_above.iter().zip(thresholds) {
+        let area = |rp: &rockfall_raster::Grid<f64>, e95: &rockfall_raster::Grid<f64>| {
+            (0..30)
+                .filter(|&i| at(rp, i) >= 1.0 && e95.get_index(i).is_some_and(|v| v > t))
+                .count() as f64
+                * 4.0
+        };
+        assert_eq!(a.energy_kj, t);
+        assert_eq!(a.area_m2.with_forest, Some(area(&rw, &ew)));
+        assert_eq!(a.area_m2.without_forest, Some(area(&ro, &eo)));
+    }
+    assert!(
+        s.area_e_95_above
+            .iter()
+            .any(|a| a.area_m2.without_forest > Some(0.0))
+    );
+}
+
 /// Counts (`Nr_*`) are written as integers in both formats: ASCII tokens without a fraction
 /// (a Rockyfor3D user's scripts read them as integers), and in the GeoTIFF as whole numbers
 /// (GDAL reads them as Int32: crates/cli/tests/report.rs); the other rasters stay floats.
