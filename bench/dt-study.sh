@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Time-step convergence of the rigid engine on seed 001's forest slope (README, "Time step").
+# Time-step convergence of the rigid engine on seed 001's forest slope (docs/guide/engines.md, "Time step").
 #
 # Runs the shape study of `forest-slope-40` (cubic1.2, flat2.2, long2.2) at dt = 0.5, 1 and
 # 2 ms with the same seed and rocks, then compares each shape's per-rock run-out, lateral

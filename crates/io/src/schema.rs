@@ -1,6 +1,6 @@
 //! The scenario file schema (TOML), as serde structures. Every table rejects unknown keys, so
 //! a misspelt key is an error naming it (with line and column) instead of a silently ignored
-//! setting. See the README for a complete, commented example.
+//! setting. See docs/guide/inputs.md for a complete, commented example.
 
 use serde::Deserialize;
 

@@ -9,7 +9,7 @@ use rockfall_scenario::{BlockShape, Engine, ForestSpec, RockShape, Scenario};
 use std::path::{Path, PathBuf};
 use tempfile::TempDir;
 
-/// The complete minimal rigid scenario of the README, on [`small_dem`].
+/// The complete minimal rigid scenario of the user guide (docs/guide/inputs.md), on [`small_dem`].
 const MINIMAL: &str = r#"engine = "rigid"
 seed = 1
 [terrain]

@@ -40,7 +40,7 @@ pub fn write_json(path: &Path, value: &impl Serialize) -> Result<(), LabError> {
     rockfall_results::write_json(path, value).map_err(LabError::from)
 }
 
-/// `summary.json` of an impact-lab run (see the README for the keys): the rock, stem, contact
+/// `summary.json` of an impact-lab run (see docs/guide/engines.md for the keys): the rock, stem, contact
 /// and setup, the sample drawn, and the impact metrics per regime and of all impacts.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LabSummary {

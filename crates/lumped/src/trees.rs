@@ -9,7 +9,7 @@ use rockfall_rng::Rng;
 /// Fracture-energy ratio of a species to *Abies alba* (the `FE_ratio` of seed 000 eq. 2).
 ///
 /// Seed 000 takes the ratios from Dorren & Berger (2006), which we could not consult; the
-/// values below are provisional and stated as such in the README. They follow the ranking of
+/// values below are provisional and stated as such in the user guide (docs/guide/engines.md). They follow the ranking of
 /// the impact bending strength of the wood (broadleaves such as beech and maple absorb
 /// markedly more than firs; spruce slightly less; larch and pine about as much): *Abies alba*
 /// 1.0 (the reference, exact by definition), *Picea abies* 0.9, *Larix decidua* 1.0,

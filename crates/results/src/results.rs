@@ -54,7 +54,7 @@ pub(crate) enum Kind {
 
 /// The one-sided 95 % quantile of the standard normal distribution: `E_95CI` and `Ph_95CI`
 /// are the mean plus this many standard deviations, the value below which 95 % of the visits
-/// lie if they are normally distributed (see the README, "Rockyfor3D output parity").
+/// lie if they are normally distributed (see docs/guide/outputs.md, "Rockyfor3D output parity").
 pub(crate) const Z_95: f64 = 1.644_853_626_951_472_2;
 
 /// Mean + [`Z_95`] standard deviations; the mean alone for a single value (no spread
