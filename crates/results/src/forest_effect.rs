@@ -42,10 +42,12 @@ pub struct ForestEffectSummary {
     /// headline: unlike [`ForestEffectSummary::e_95_kj`], whose cells differ between the runs
     /// (the forest run reaches other cells, often near the source where energies are high),
     /// it compares like with like.
+    #[serde(default)]
     pub on_cells_reached_without_forest: BareCells,
     /// Area reached by at least [`MIN_REACH_PCT`] of the rocks where `E_95` exceeds each of the
     /// run's energy thresholds (`[output] energy_thresholds_kj`), with and without the forest:
     /// the footprint a hazard map draws (`rockfall hazard`'s default reach rule).
+    #[serde(default)]
     pub area_e_95_above: Vec<AreaAbove>,
     /// Share of rocks stopped inside the DEM.
     pub stopped_fraction: Difference,
