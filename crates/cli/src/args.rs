@@ -119,6 +119,20 @@ pub enum Command {
         /// Scenario file or Rockyfor3D input folder.
         input: PathBuf,
     },
+    /// Print the JSON Schema (draft 2020-12) of the scenario file: every key with its
+    /// description, unit, default and range, every table closed to unknown keys. Point an
+    /// editor at it (taplo / Even Better TOML: a `#:schema ./scenario.schema.json` first line
+    /// or a `.taplo.toml` rule) to have a scenario checked and completed as it is written.
+    /// With --markdown, a Markdown reference of every key instead, generated from the schema.
+    Schema {
+        /// Print the Markdown key reference (one table per section) instead of the schema.
+        #[arg(long)]
+        markdown: bool,
+        /// Write to FILE (atomically: a temporary file, then renamed) instead of standard
+        /// output.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
     /// Write a built-in synthetic site as input files: rasters (ESRI ASCII grids with .prj),
     /// tree list, scenario.toml, and the Rockyfor3D file set where the site fits it.
     Site {

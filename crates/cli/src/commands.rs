@@ -19,6 +19,7 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
     }
     match command {
         Command::Check { input } => check(&input),
+        Command::Schema { markdown, out } => crate::schema::schema(markdown, out.as_deref()),
         Command::Site { name, out, list } => match (name, out) {
             (Some(name), Some(out)) if !list => site(&name, &out),
             _ => {
@@ -226,7 +227,8 @@ fn output_folder(command: &Command) -> Option<&Path> {
         | Command::Calibrate { out, .. }
         | Command::Hazard { out, .. } => Some(out),
         // `site` refuses any existing folder that is not empty, files included
-        Command::Site { .. } | Command::Check { .. } => None,
+        // `schema --out` names a file
+        Command::Site { .. } | Command::Check { .. } | Command::Schema { .. } => None,
     }
 }
 

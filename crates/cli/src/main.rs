@@ -9,6 +9,7 @@ mod lab;
 #[cfg(feature = "mpi")]
 mod mpi_run;
 mod regional;
+mod schema;
 mod simulate;
 mod validate;
 

@@ -7,6 +7,8 @@
 //! - [`shape`]: rock point clouds and meshes (`.xyz`, `.csv`, `.txt`, `.obj`, `.ply`, `.stl`)
 //!   → points; a scenario's rock file is read as the scenario is, so that the engines get
 //!   points, never a path.
+//! - [`schema_doc`]: the scenario file's JSON Schema and Markdown key reference, generated
+//!   from the structures that read it (`rockfall schema`).
 //! - [`write`]: a scenario written back as input files (rasters, tree list, scenario file,
 //!   and the Rockyfor3D file set where the scenario fits it) — how `rockfall site` exports
 //!   the built-in sites.
@@ -20,6 +22,7 @@ mod nets;
 pub mod rockyfor;
 pub mod scenario_file;
 mod schema;
+pub mod schema_doc;
 pub mod shape;
 pub mod trees;
 pub mod vector;

@@ -21,6 +21,12 @@ mod rock;
 pub const DEFAULT_SOILTYPE: u8 = 4;
 /// Default rock density when a scenario gives none, kg/m³ (seed 001 table 1).
 pub const DEFAULT_DENSITY_KG_M3: f64 = 2700.0;
+/// Default master seed when a scenario gives none.
+pub const DEFAULT_SEED: u64 = 1;
+/// Default share of conifers of a stand when a scenario gives none, %.
+pub const DEFAULT_CONIFER_PERCENT: f64 = 50.0;
+/// Default rock shape when a scenario gives neither `shape` nor `blshape`.
+pub const DEFAULT_SHAPE: &str = "sphere";
 
 /// Reads and validates a scenario file.
 pub fn read_scenario(path: &Path) -> Result<Scenario, InputError> {
@@ -189,7 +195,7 @@ impl Resolver {
         Ok(Scenario {
             name,
             engine,
-            seed: f.seed.unwrap_or(1),
+            seed: f.seed.unwrap_or(DEFAULT_SEED),
             terrain,
             forest,
             nets,
@@ -348,7 +354,11 @@ impl Resolver {
             stems_per_ha: self.field("nrtrees", Some(stems), 0.0)?,
             dbh_mean_cm: self.field("dbhmean", Some(mean), 0.0)?,
             dbh_sd_cm: self.field("dbhstd", Some(sd), 0.0)?,
-            conifer_percent: self.field("conif_percent", f.conifer_percent, 50.0)?,
+            conifer_percent: self.field(
+                "conif_percent",
+                f.conifer_percent,
+                DEFAULT_CONIFER_PERCENT,
+            )?,
             height_m,
             options: StandOptions {
                 dbh_min_cm: f.dbh_min_cm.unwrap_or(defaults.dbh_min_cm),

@@ -1,6 +1,6 @@
 //! The `[rock]` section of a scenario file.
 
-use super::{DEFAULT_DENSITY_KG_M3, Resolver};
+use super::{DEFAULT_DENSITY_KG_M3, DEFAULT_SHAPE, Resolver};
 use crate::{InputError, schema};
 use rockfall_raster::Field;
 use rockfall_scenario::{BlockShape, RockShape, RockSpec};
@@ -14,7 +14,7 @@ impl Resolver {
                 return Err(self.invalid("rock", "give either `shape` or `blshape`, not both"));
             }
             (None, Some(p)) => RockShape::PerCell(self.field("rock.blshape", Some(p), 0.0)?),
-            (s, None) => match RockShape::parse(s.unwrap_or("sphere"))
+            (s, None) => match RockShape::parse(s.unwrap_or(DEFAULT_SHAPE))
                 .map_err(|m| self.invalid("rock.shape", m))?
             {
                 RockShape::File(p) => {
