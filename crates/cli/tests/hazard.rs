@@ -197,12 +197,17 @@ fn three_scenarios_make_a_zone_map_that_gis_tools_read() {
         ("Hazard zones", "./hazard_zones.gpkg|layername=hazard_zones"),
         ("Hazard_level", "./Hazard_level.tif"),
         ("E_95 300y", "./runs/300y/E_95.tif"),
+        // a built-in site has no DEM file: the relief is the DEM its first run wrote
+        ("Hillshade (DEM)", "./runs/30y/dem.tif"),
     ] {
         assert!(
             own.contains(&(name.into(), source.into())),
             "{name}: {own:?}"
         );
     }
+    // QGIS opens both, in the site's CRS, every layer valid, over the hillshade
+    common::qgis_opens(&out.join("hazard.qgs"), 2154, false);
+    common::qgis_opens(&out.join("runs/100y/rockfall.qgs"), 2154, true);
     // a changed block is run again
     let changed = write(dir.path(), "changed.toml", &THREE.replace("0.45", "0.3"));
     let third = ok(rockfall(&[

@@ -1,10 +1,12 @@
 //! What users look at, checked as a user would: `rockfall demo` writes `report.html`, which
 //! headless Chromium loads without errors and with every image shown; the GeoTIFFs open in
 //! GDAL on the site's grid and CRS (from the scenario's EPSG code, and from a Rockyfor3D
-//! folder's `.prj`), each with its QGIS style beside it; the GeoJSON files open in OGR.
+//! folder's `.prj`), each with its QGIS style beside it; the GeoJSON files open in OGR; QGIS
+//! opens `rockfall.qgs` in the site's CRS over a hillshade of the DEM written beside it.
 //!
-//! Chromium (Debian's `chromium`) and GDAL (`gdal-bin`) are external programs: without them
-//! these checks are skipped with a notice, except when `CI` is set, where they fail.
+//! Chromium (Debian's `chromium`), GDAL (`gdal-bin`) and QGIS's Python bindings
+//! (`python3-qgis`) are external programs: without them these checks are skipped with a
+//! notice, except when `CI` is set, where they fail.
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
@@ -311,7 +313,10 @@ fn files_with(dir: &Path, ext: &str) -> Vec<PathBuf> {
 #[test]
 fn every_geotiff_opens_in_gdal_on_the_site_grid_with_its_qgis_style() {
     let out = demo();
-    let tifs = files_with(out, "tif");
+    // the site's DEM, written for the QGIS project's hillshade, has no style of its own
+    let dem = out.join("dem.tif");
+    let mut tifs = files_with(out, "tif");
+    tifs.retain(|t| *t != dem);
     assert!(tifs.len() >= 17, "{tifs:?}");
     for tif in &tifs {
         let qml = std::fs::read_to_string(tif.with_extension("qml")).unwrap();
@@ -336,6 +341,8 @@ fn every_geotiff_opens_in_gdal_on_the_site_grid_with_its_qgis_style() {
     if !available("gdalinfo", "gdal-bin") {
         return;
     }
+    assert_site_grid(&dem);
+    assert_eq!(gdalinfo(&dem)["bands"][0]["type"], "Float32");
     for tif in &tifs {
         assert_site_grid(tif);
         // Cloud-Optimised (one 256 × 256 tile on this 60 × 142 site); counts as Int32
@@ -403,6 +410,20 @@ fn trajectories_and_stems_open_in_ogr_in_the_site_crs() {
         "{stems}"
     );
     assert!(stems.contains("dbh_cm: Real"), "{stems}");
+}
+
+/// QGIS (Debian 12's 3.22, the oldest in Debian stable) opens both projects of the demo in
+/// EPSG:2154 with every layer valid, the stems as small dots and the hillshade of the site's
+/// DEM (no DEM file: the run wrote `dem.tif`) at the bottom.
+#[test]
+fn the_demo_projects_open_in_qgis() {
+    let out = demo();
+    let Some(report) = common::qgis_opens(&out.join("rockfall.qgs"), 2154, true) else {
+        return;
+    };
+    assert!(report.contains("stems: 1333 points"), "{report}");
+    assert!(report.contains("dem.tif"), "{report}");
+    common::qgis_opens(&out.join("without_forest/rockfall.qgs"), 2154, false);
 }
 
 #[test]

@@ -242,6 +242,8 @@ fn run_writes_a_qgis_project_whose_layers_all_exist() {
         e95_xml.contains(first_item),
         "E_95's renderer differs from E_95.qml"
     );
+    // QGIS opens it in the scenario's CRS, the DEM (an ASCII grid without `.prj`) too
+    common::qgis_opens(&out.join("rockfall.qgs"), 2154, true);
 }
 
 /// `[nets] screens = true`: every net line is also a screen, `net_<id>`, with the net's

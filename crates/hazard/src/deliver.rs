@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use rockfall_raster::Grid;
-use rockfall_report::project::{PROJECT_FILE, ProjectLayer, add_layers, write_layers_project};
+use rockfall_report::project::{
+    DEM_FILE, PROJECT_FILE, ProjectLayer, add_layers, write_layers_project,
+};
 use rockfall_report::{HazardReport, LegendEntry, MatrixCell, MatrixTable, write_hazard_report};
 
 use crate::build::HazardMap;
@@ -260,12 +262,19 @@ fn pipe_of(qml: &str) -> String {
     }
 }
 
+/// Writes `hazard.qgs`: the zones, the class rasters and each scenario's intensity raster over
+/// the hillshade of the DEM file `dem_file`, else of the DEM a run of a built-in site wrote
+/// beside its rasters ([`DEM_FILE`]).
 fn write_project(
     out: &Path,
     spec: &HazardSpec,
     map: &HazardMap,
     dem_file: Option<&Path>,
 ) -> Result<PathBuf, HazardError> {
+    let run_dem = (map.scenarios.iter())
+        .map(|s| s.run.join(DEM_FILE))
+        .find(|p| p.is_file());
+    let dem_file = dem_file.map(Path::to_path_buf).or(run_dem);
     let m = &spec.matrix;
     let raster = |name: &str, qml: String, checked: bool| ProjectLayer {
         name: name.into(),
@@ -301,7 +310,7 @@ fn write_project(
         &map.geometry,
         map.crs.as_ref(),
         &layers,
-        dem_file,
+        dem_file.as_deref(),
     )
     .map_err(out_err)
 }

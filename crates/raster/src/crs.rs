@@ -23,6 +23,9 @@ pub struct KnownCrs {
     pub name: &'static str,
     /// True for a geographic (degrees) CRS, false for a projected one (metres).
     pub geographic: bool,
+    /// The PROJ string (`+proj=… +no_defs`), as GDAL exports it and QGIS writes it into a
+    /// project for readers without WKT 2 support.
+    pub proj4: &'static str,
     /// OGC WKT 1 with EPSG authority codes, as GDAL reads it from a `.prj`.
     pub wkt: &'static str,
 }
@@ -54,6 +57,12 @@ impl Crs {
         self.wkt
             .clone()
             .or_else(|| self.epsg.and_then(known).map(|k| k.wkt.to_string()))
+    }
+
+    /// The PROJ string of the EPSG code when it is in [`KNOWN`]; `None` for another code or a
+    /// CRS known by its WKT alone (we do not convert WKT to PROJ strings).
+    pub fn proj4(&self) -> Option<&'static str> {
+        self.epsg.and_then(known).map(|k| k.proj4)
     }
 
     /// True when the CRS is geographic (degrees), as far as we can tell.
@@ -192,5 +201,25 @@ mod tests {
             assert_eq!(Crs::from_wkt(k.wkt).epsg, Some(k.epsg), "{}", k.name);
             assert_eq!(Crs::from_epsg(k.epsg).is_geographic(), k.geographic);
         }
+    }
+
+    #[test]
+    fn every_known_code_has_a_proj_string_of_its_kind() {
+        for k in KNOWN {
+            let crs = Crs::from_epsg(k.epsg);
+            let proj = crs.proj4().unwrap_or_default();
+            assert!(
+                proj.starts_with("+proj=") && proj.ends_with("+no_defs"),
+                "{proj}"
+            );
+            assert_eq!(
+                proj.starts_with("+proj=longlat"),
+                k.geographic,
+                "{}",
+                k.name
+            );
+        }
+        assert_eq!(Crs::from_epsg(9999).proj4(), None);
+        assert_eq!(Crs::from_wkt(r#"PROJCS["My_Local_Grid"]"#).proj4(), None);
     }
 }

@@ -235,6 +235,9 @@ fn describe(name: &str, crs: &str, named: bool) -> String {
     };
     let stem = name.rsplit_once('.').map_or(name, |(s, _)| s);
     match name.rsplit_once('.').map(|(_, e)| e) {
+        _ if name == crate::project::DEM_FILE => {
+            format!("the DEM, heights in m ({crs}): the hillshade of rockfall.qgs")
+        }
         Some("tif") => format!("GeoTIFF raster ({crs}); open it in QGIS or GDAL"),
         Some("qml") => {
             format!("QGIS style of {stem}.tif (the report's colour ramp), loaded with it")
@@ -254,6 +257,9 @@ fn describe(name: &str, crs: &str, named: bool) -> String {
             "rocks.csv" => "one row per rock: start, outcome, end, maxima".into(),
             "forest_effect.json" => "the forest's effect: with − without forest".into(),
             "report.html" => "this report".into(),
+            "rockfall.qgs" => {
+                "QGIS project of the rasters, trajectories and stems over the relief".into()
+            }
             _ => String::new(),
         },
     }

@@ -22,6 +22,10 @@ pub enum ReportError {
     /// file).
     #[error(transparent)]
     Results(#[from] rockfall_results::ResultsError),
+    /// A raster of the report (the DEM under the QGIS project) could not be written (the
+    /// error names the file).
+    #[error(transparent)]
+    Raster(#[from] rockfall_raster::RasterError),
 }
 
 impl From<(PathBuf, std::io::Error)> for ReportError {

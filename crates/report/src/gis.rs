@@ -1,12 +1,14 @@
 //! The GIS files beside the rasters: a QGIS style per GeoTIFF, the trajectories and stems as
-//! GeoJSON.
+//! GeoJSON, the DEM of a site that has no DEM file.
 
 use std::path::{Path, PathBuf};
 
 use rockfall_plot::ColorScale;
-use rockfall_raster::RasterView;
+use rockfall_raster::{RasterView, SampleType};
+use rockfall_scenario::Scenario;
 
 use crate::layers::{ScaleKind, style};
+use crate::project::DEM_FILE;
 use crate::{ReportError, ReportInput, geojson, qml};
 
 /// Writes `<name>.qml`, the QGIS style of the raster `name` (`grid`), into `out`; returns
@@ -61,6 +63,19 @@ pub(crate) fn write_vectors(
         }
     }
     Ok(written)
+}
+
+/// The DEM file under the QGIS project's hillshade: the scenario's own DEM file when it has
+/// one (referred to where it is, not copied), else [`DEM_FILE`] written into `out` from the
+/// DEM in memory (heights as 32-bit floats, in the DEM's CRS). Returns the file and whether
+/// it was written here.
+pub(crate) fn relief_dem(out: &Path, scenario: &Scenario) -> Result<(PathBuf, bool), ReportError> {
+    if let Some(file) = scenario.source_of("dem").filter(|p| p.is_file()) {
+        return Ok((file.to_path_buf(), false));
+    }
+    let path = out.join(DEM_FILE);
+    rockfall_raster::write_grid(&path, scenario.terrain.dem.grid(), SampleType::F32)?;
+    Ok((path, true))
 }
 
 /// Removes `path` if it exists (a file of an earlier run that this one does not write).

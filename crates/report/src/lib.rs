@@ -9,6 +9,8 @@
 //! - `trajectories.geojson` (the recorded trajectories as lines, thinned to half a cell) and
 //!   `stems.geojson` (the simulated stems as points), named in the rasters' CRS
 //!   ([`geojson`]).
+//! - `rockfall.qgs`: a QGIS project of these layers over a hillshade of the DEM ([`project`]);
+//!   `dem.tif` beside it when the DEM is no file (a built-in site).
 //! - `report/*.png`: the site map, each key raster over the hillshade ([`maps`]), the
 //!   run-out and screen distributions, a few trajectories coloured by energy ([`plots`]),
 //!   speed and ground along the slope ([`profiles`]).
@@ -36,6 +38,7 @@ pub mod maps;
 pub mod plots;
 pub mod profiles;
 pub mod project;
+mod qgis_crs;
 pub mod qml;
 mod run;
 mod sections;
@@ -182,7 +185,7 @@ pub fn write(out: &Path, input: &ReportInput<'_>) -> Result<Vec<PathBuf>, Report
         layers.draw(&dir, input, &base, &name, grid)?;
     }
     written.extend(gis::write_vectors(out, input)?);
-    written.push(project::write_project(out, input, &pipes)?);
+    written.extend(project::write_project(out, input.scenario, &pipes)?);
     let summary = input.results.summary();
     let sections = sections::figure_sections(&dir, input, &base, layers, &summary)?;
     written.extend(

@@ -98,3 +98,52 @@ pub fn built_in_site(name: &str) -> (tempfile::TempDir, std::path::PathBuf) {
     ok(rockfall(&["site", name, "--out", s(&dir)]));
     (tmp, dir)
 }
+
+/// Debian's Python, which has the QGIS bindings (python3-qgis) when QGIS is installed.
+const SYSTEM_PYTHON: &str = "/usr/bin/python3";
+
+/// Opens the QGIS project `project` with QGIS itself (crates/report/tests/qgis_open.py, run
+/// headless by Debian's Python) and asserts what QGIS reads: the project CRS is `EPSG:epsg`,
+/// every layer is valid in it, the bottom layer is a hillshade and, with `stems`, the stems are
+/// small dots. Without the QGIS bindings it prints a notice and returns false, except when
+/// `CI` is set: then it panics, so CI cannot skip the check silently. Returns QGIS's report.
+pub fn qgis_opens(project: &Path, epsg: u32, stems: bool) -> Option<String> {
+    let probe = Command::new(SYSTEM_PYTHON)
+        .args(["-c", "import qgis.core"])
+        .env("QT_QPA_PLATFORM", "offscreen")
+        .output();
+    match probe {
+        Ok(out) if out.status.success() => {}
+        _ if std::env::var_os("CI").is_some() => panic!(
+            "{SYSTEM_PYTHON} cannot import qgis.core: install python3-qgis to open the QGIS \
+             projects in CI"
+        ),
+        _ => {
+            eprintln!(
+                "notice: {SYSTEM_PYTHON} has no QGIS bindings; QGIS check of {} skipped \
+                 (install python3-qgis)",
+                project.display()
+            );
+            return None;
+        }
+    }
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../report/tests/qgis_open.py");
+    let epsg = epsg.to_string();
+    let mut args = vec![s(&script), s(project), "--epsg", &epsg];
+    if stems {
+        args.push("--stems");
+    }
+    let out = Command::new(SYSTEM_PYTHON)
+        .args(&args)
+        .env("QT_QPA_PLATFORM", "offscreen")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "QGIS does not open {} as expected:\n{stdout}\n{}",
+        project.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Some(stdout)
+}
