@@ -20,7 +20,7 @@ bin="${ROCKFALL_BIN:-$repo/target/release/rockfall}"
 bin="$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")"
 
 # The programs a `sh,norun` block may use: each is run by another step of .ci/run.
-norun_ok='^(cargo|pip|python3 -m venv|\.venv/bin/|maturin|mpirun|sbatch|#|$)'
+norun_ok='^(cargo|pip|python3 -m venv|\.venv/bin/|build-venv/bin/|maturin|mpirun|sbatch|#|$)'
 
 work="$(mktemp -d)"
 trap '[ "${KEEP:-}" = 1 ] || rm -rf "$work"' EXIT
