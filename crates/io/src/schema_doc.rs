@@ -30,6 +30,7 @@ pub fn scenario_schema() -> Value {
         .into_root_schema_for::<crate::schema::File>()
         .to_value();
     strip_null(&mut schema);
+    wrap_refs(&mut schema);
     if let Value::Object(o) = &mut schema {
         o.insert("$comment".into(), GENERATED.into());
     }
@@ -82,6 +83,36 @@ fn strip_null(v: &mut Value) {
             o.values_mut().for_each(strip_null);
         }
         Value::Array(items) => items.iter_mut().for_each(strip_null),
+        _ => {}
+    }
+}
+
+/// Keywords that only annotate: beside a `$ref` they need no wrapping.
+const ANNOTATIONS: [&str; 7] = [
+    "description",
+    "title",
+    "default",
+    "examples",
+    "$comment",
+    "deprecated",
+    "x-unit",
+];
+
+/// Moves a `$ref` that has validation keywords beside it (a per-cell parameter's range) into
+/// `allOf: [{ $ref }]`: draft-07 validators, taplo's among them (Even Better TOML), ignore
+/// every keyword beside a `$ref`, so the range would be lost to editors.
+fn wrap_refs(v: &mut Value) {
+    match v {
+        Value::Object(o) => {
+            let checked = o
+                .keys()
+                .any(|k| k != "$ref" && !ANNOTATIONS.contains(&k.as_str()));
+            if checked && let Some(r) = o.remove("$ref") {
+                o.insert("allOf".into(), serde_json::json!([{ "$ref": r }]));
+            }
+            o.values_mut().for_each(wrap_refs);
+        }
+        Value::Array(items) => items.iter_mut().for_each(wrap_refs),
         _ => {}
     }
 }

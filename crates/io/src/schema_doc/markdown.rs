@@ -68,9 +68,13 @@ fn cell(s: &str) -> String {
     one_line(s).replace('|', "\\|")
 }
 
-/// The definition `v` refers to (`$ref: #/$defs/…`), or `v`.
+/// The definition `v` refers to (`$ref: #/$defs/…`, or `allOf: [{ $ref }]`), or `v`.
 fn resolve<'a>(root: &'a Value, v: &'a Value) -> &'a Value {
-    let target = (v.get("$ref").and_then(Value::as_str))
+    let reference = match v.get("allOf").and_then(Value::as_array) {
+        Some(all) if all.len() == 1 => all[0].get("$ref"),
+        _ => v.get("$ref"),
+    };
+    let target = (reference.and_then(Value::as_str))
         .and_then(|r| r.strip_prefix("#/$defs/"))
         .and_then(|name| root.get("$defs")?.get(name));
     target.unwrap_or(v)

@@ -251,6 +251,31 @@ fn untagged_enums_are_any_of() {
     let vector = &s["$defs"]["VectorParam"];
     assert_eq!(vector["required"], json!(["vector", "field"]));
     let terrain = &s["$defs"]["TerrainSec"]["properties"];
-    assert_eq!(terrain["soiltype"]["$ref"], "#/$defs/Param");
+    assert_eq!(terrain["soiltype"]["allOf"][0]["$ref"], "#/$defs/Param");
     assert_eq!(terrain["soiltype"]["maximum"], 7);
+}
+
+/// Draft-07 validators (taplo's, so Even Better TOML's) ignore every keyword beside a `$ref`:
+/// no range may stand there.
+#[test]
+fn no_validation_keyword_stands_beside_a_ref() {
+    let s = scenario_schema();
+    for (path, v) in schemas(&s) {
+        let Some(o) = v.as_object().filter(|o| o.contains_key("$ref")) else {
+            continue;
+        };
+        for k in o.keys().filter(|k| *k != "$ref") {
+            assert!(ANNOTATIONS.contains(&k.as_str()), "{path}: {k} beside $ref");
+        }
+    }
+    let soiltype = &s["$defs"]["TerrainSec"]["properties"]["soiltype"];
+    let v = jsonschema::validator_for(&json!({
+        "$defs": s["$defs"],
+        "properties": { "soiltype": soiltype },
+    }))
+    .unwrap();
+    assert!(v.is_valid(&json!({ "soiltype": 7 })));
+    assert!(v.is_valid(&json!({ "soiltype": "soil.asc" })));
+    assert!(!v.is_valid(&json!({ "soiltype": 8 })));
+    assert!(!v.is_valid(&json!({ "soiltype": 2.5 })));
 }
