@@ -150,7 +150,7 @@ impl Resolver {
         match r {
             LayerRef::Path(p) if is_vector_path(Path::new(&p)) => Ok((p, None)),
             LayerRef::Path(p) => Err(p),
-            LayerRef::Vector { vector, layer } => Ok((vector, layer)),
+            LayerRef::Vector(v) => Ok((v.vector, v.layer)),
         }
     }
 

@@ -234,13 +234,14 @@ fn a_misspelt_key_is_refused_naming_it() {
     );
     assert!(read(&text).unwrap_err().contains("simulaton"));
 
-    // a layer's table, which serde reads without refusing unknown keys: the schema does
+    // a layer's table: the schema and the reader both refuse it, naming the key
     let text = format!("{BASE}[release.cells]\nvector = \"r.geojson\"\nlayr = \"a\"\n");
     let e = errors(&v, &text);
     assert!(
         e.iter().any(|e| e.path == "/release/cells"),
         "the layer's misspelt key passed: {e:?}"
     );
+    assert!(read(&text).unwrap_err().contains("layr"));
 }
 
 /// The first error's path and keyword on `text`.

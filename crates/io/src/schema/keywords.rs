@@ -178,9 +178,3 @@ pub(crate) fn percentile_items(s: &mut Schema) {
         json!({ "exclusiveMinimum": 0.0, "exclusiveMaximum": 100.0 }),
     );
 }
-
-/// A table of an untagged enum's variant that serde reads without rejecting unknown keys
-/// (`LayerRef`): the schema rejects them, as every other table does.
-pub(crate) fn no_other_keys(s: &mut Schema) {
-    s.insert("additionalProperties".into(), Value::Bool(false));
-}

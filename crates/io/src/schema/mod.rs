@@ -11,6 +11,7 @@ mod contact;
 pub(crate) mod keywords;
 mod sections;
 mod settings;
+mod untagged;
 
 pub use contact::{ContactSec, GroundClassSec, GroundSec, ScarringKeys};
 pub use sections::{ForestSec, NetsSec, ScreenSec};
@@ -24,7 +25,8 @@ use serde::Deserialize;
 
 /// A per-cell parameter: a number (constant everywhere), a raster path (`.asc`/`.tif`),
 /// relative to the scenario file's folder, or a polygon layer's attribute.
-#[derive(Debug, Clone, Deserialize, JsonSchema)]
+// Read by the hand-written `Deserialize` of `untagged.rs`, which names a misspelt key.
+#[derive(Debug, Clone, JsonSchema)]
 #[serde(untagged)]
 #[schemars(title = "per-cell parameter")]
 pub enum Param {
@@ -53,7 +55,8 @@ pub struct VectorParam {
 }
 
 /// A layer (release polygons, tree points, net lines): a path, or a table naming the layer.
-#[derive(Debug, Clone, Deserialize, JsonSchema)]
+// Read by the hand-written `Deserialize` of `untagged.rs`, which names a misspelt key.
+#[derive(Debug, Clone, JsonSchema)]
 #[serde(untagged)]
 #[schemars(title = "layer")]
 pub enum LayerRef {
@@ -61,14 +64,19 @@ pub enum LayerRef {
     /// `.json`, `.shp`, `.gpkg`), or for `[release] cells` also a raster.
     Path(String),
     /// `{ vector = "file", layer = "name" }`: a layer of a vector file.
-    #[schemars(transform = keywords::no_other_keys)]
-    Vector {
-        /// The vector file (`.geojson`, `.json`, `.shp`, `.gpkg`), relative to the scenario
-        /// file's folder.
-        vector: String,
-        /// The layer; needed only for a GeoPackage of several layers.
-        layer: Option<String>,
-    },
+    Vector(VectorLayer),
+}
+
+/// `{ vector = "file", layer = "name" }`: a layer of a vector file. Unknown keys are errors,
+/// so a misspelt `layer` is not read as "no layer".
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VectorLayer {
+    /// The vector file (`.geojson`, `.json`, `.shp`, `.gpkg`), relative to the scenario
+    /// file's folder.
+    pub vector: String,
+    /// The layer; needed only for a GeoPackage of several layers.
+    pub layer: Option<String>,
 }
 
 /// A rockfall scenario: the terrain, the rock, where it is released, and optionally forest,

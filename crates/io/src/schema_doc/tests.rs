@@ -247,7 +247,10 @@ fn untagged_enums_are_any_of() {
             .collect()
     };
     assert_eq!(forms("Param"), ["number", "string", "#/$defs/VectorParam"]);
-    assert_eq!(forms("LayerRef"), ["string", "object"]);
+    assert_eq!(forms("LayerRef"), ["string", "#/$defs/VectorLayer"]);
+    let layer = &s["$defs"]["VectorLayer"];
+    assert_eq!(layer["required"], json!(["vector"]));
+    assert_eq!(layer["additionalProperties"], json!(false));
     let vector = &s["$defs"]["VectorParam"];
     assert_eq!(vector["required"], json!(["vector", "field"]));
     let terrain = &s["$defs"]["TerrainSec"]["properties"];
