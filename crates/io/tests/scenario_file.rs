@@ -5,7 +5,7 @@
 
 use rockfall_io::load;
 use rockfall_raster::{Field, Grid, GridGeometry, ascii_grid};
-use rockfall_scenario::{BlockShape, Engine, ForestSpec, RockShape, Scenario};
+use rockfall_scenario::{BlockShape, Engine, ForestSpec, RockShape, Scenario, StartHeight};
 use std::path::{Path, PathBuf};
 use tempfile::TempDir;
 
@@ -170,7 +170,10 @@ fn minimal_rigid_scenario_parses() {
     assert_eq!(s.rock.density_kg_m3, Field::Const(2700.0));
     let p = &s.release.points[..];
     assert_eq!(p.len(), 1);
-    assert_eq!((p[0].x_m, p[0].y_m, p[0].height_m), (20.0, 40.0, 0.001));
+    assert_eq!(
+        (p[0].x_m, p[0].y_m, p[0].start),
+        (20.0, 40.0, StartHeight::Gap { gap_m: 0.001 })
+    );
     assert_eq!(p[0].orientation_wxyz, Some([1.0, 0.0, 0.0, 0.0]));
     assert!(s.release.cells.is_empty());
     assert_eq!((s.contact.ground.mu, s.contact.tree.mu), (0.3, 0.6));
