@@ -130,6 +130,8 @@ pub struct PointSec {
     pub x_m: f64,
     pub y_m: f64,
     pub height_m: Option<f64>,
+    /// The elevation of the rock's centre, m (excludes `height_m`).
+    pub z_m: Option<f64>,
     pub velocity_ms: Option<[f64; 3]>,
     pub angular_velocity_rads: Option<[f64; 3]>,
     pub orientation_wxyz: Option<[f64; 4]>,

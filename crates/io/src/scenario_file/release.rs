@@ -8,7 +8,8 @@ use rockfall_terrain::Terrain;
 
 impl Resolver {
     /// The `[release]` section: source cells (a raster or polygons on the DEM's grid) with
-    /// their gap and velocity, and the `[[release.points]]` with theirs.
+    /// their gap and velocity, and the `[[release.points]]`, each with either a gap
+    /// (`height_m`) or its centre's elevation (`z_m`), never both.
     pub(super) fn release(
         &mut self,
         r: schema::ReleaseSec,
@@ -50,20 +51,32 @@ impl Resolver {
                 cells
             }
         };
-        let points = r
-            .points
-            .into_iter()
-            .map(|p| ReleasePoint {
-                x_m: p.x_m,
-                y_m: p.y_m,
-                start: StartHeight::Gap {
-                    gap_m: p.height_m.unwrap_or(0.0),
-                },
-                velocity_ms: p.velocity_ms.unwrap_or([0.0; 3]),
-                angular_velocity_rads: p.angular_velocity_rads.unwrap_or([0.0; 3]),
-                orientation_wxyz: p.orientation_wxyz,
+        let points = (r.points.into_iter().enumerate())
+            .map(|(k, p)| {
+                let start = match (p.height_m, p.z_m) {
+                    (Some(_), Some(_)) => {
+                        return Err(self.invalid(
+                            &format!("release.points[{k}]"),
+                            "give either `height_m` (the gap between the ground under the \
+                             rock's centre and its lowest point) or `z_m` (the elevation of \
+                             its centre), not both",
+                        ));
+                    }
+                    (None, Some(z_m)) => StartHeight::CentreZ { z_m },
+                    (gap_m, None) => StartHeight::Gap {
+                        gap_m: gap_m.unwrap_or(0.0),
+                    },
+                };
+                Ok(ReleasePoint {
+                    x_m: p.x_m,
+                    y_m: p.y_m,
+                    start,
+                    velocity_ms: p.velocity_ms.unwrap_or([0.0; 3]),
+                    angular_velocity_rads: p.angular_velocity_rads.unwrap_or([0.0; 3]),
+                    orientation_wxyz: p.orientation_wxyz,
+                })
             })
-            .collect();
+            .collect::<Result<Vec<_>, InputError>>()?;
         Ok(Release {
             cells,
             cell_height_m: r.height_m.unwrap_or(0.0),
