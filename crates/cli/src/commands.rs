@@ -96,7 +96,7 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             }
             let scenario = sim.scenario();
             let ascii = ascii || scenario.output.ascii_rasters;
-            let results = simulate::simulate(&sim, true, "simulating")?;
+            let results = simulate::simulate(&sim, &input, true, "simulating")?;
             let ctx = simulate::Context::new(scenario, sim.stems(), input.display().to_string());
             simulate::write(&results, &out, ascii, &ctx)?;
             simulate::print_summary(&format!("{}:", scenario.name), &results);
