@@ -435,7 +435,9 @@ fn release_point_z_m_is_checked_and_listed() {
         "release.points[0]: z_m = -3.5 m puts the rock into the ground",
         "the ground under its centre (40, 160) is at",
     ];
-    bad_input(rockfall(&["check", s(&path)]), &needles);
+    let refused = rockfall(&["check", s(&path)]);
+    assert!(!refused.stdout.contains(": ok"), "{refused}");
+    bad_input(refused, &needles);
     let out = dir.join("out");
     bad_input(rockfall(&["run", s(&path), "--out", s(&out)]), &needles);
 }
