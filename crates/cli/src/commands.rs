@@ -97,7 +97,7 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             }
             let scenario = sim.scenario();
             let ascii = ascii || scenario.output.ascii_rasters;
-            let results = simulate::simulate(&sim, true, "simulating")?;
+            let results = simulate::simulate(&sim, &input, true, "simulating")?;
             let ctx = simulate::Context::new(scenario, sim.stems(), input.display().to_string());
             simulate::write(&results, &out, ascii, &ctx)?;
             simulate::print_summary(&format!("{}:", scenario.name), &results);
@@ -280,12 +280,13 @@ fn check(input: &Path) -> Result<(), Failure> {
         ),
         Engine::Lumped => None,
     };
+    // the engine launches every release (a z_m in the ground is refused) before `ok`
+    let prepared = sim.prepare().map_err(|e| simulate::sim_failure(e, input))?;
     println!("{}: ok", input.display());
     print!("{}", Overview::new(scenario, sim.forest()));
     if let Some(hull) = hull {
         println!("{hull}");
     }
-    let prepared = sim.prepare().map_err(|e| simulate::sim_failure(e, input))?;
     if let Some((held, of)) = prepared.held_releases()
         && let Some(w) = rockfall_sim::held_warning("releases", held as u64, of as u64)
     {

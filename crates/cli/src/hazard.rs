@@ -106,7 +106,9 @@ fn run_scenario(
         return Ok(dir);
     }
     println!("{label}: running {}", p.what);
-    let results = simulate::simulate(sim, true, label)?;
+    let what = PathBuf::from(&p.what);
+    let input = p.file.as_deref().unwrap_or(&what);
+    let results = simulate::simulate(sim, input, true, label)?;
     let scenario = sim.scenario();
     let ctx = simulate::Context::new(scenario, sim.stems(), p.what.clone());
     simulate::write(&results, &dir, scenario.output.ascii_rasters, &ctx)?;

@@ -33,11 +33,17 @@ pub fn sim_failure(e: SimError, input: &Path) -> Failure {
     }
 }
 
-/// Runs every rock of `sim`, with its forest or without, with a progress bar labelled
-/// `label`.
-pub fn simulate(sim: &Simulation, with_forest: bool, label: &str) -> Result<Results, Failure> {
+/// Runs every rock of `sim`, read from `input`, with its forest or without, with a progress
+/// bar labelled `label`; bad input that names no file of its own is `input`'s (a release
+/// point's `z_m`).
+pub fn simulate(
+    sim: &Simulation,
+    input: &Path,
+    with_forest: bool,
+    label: &str,
+) -> Result<Results, Failure> {
     sim.run(with_forest, label, &Console::default())
-        .map_err(|e| Failure::of(e.is_bad_input(), e))
+        .map_err(|e| sim_failure(e, input))
 }
 
 /// What the terminal shows of runs: a progress bar per run (on a terminal only), a warning
@@ -310,8 +316,9 @@ pub fn demo(out: &Path) -> Result<(), Failure> {
         forest.len()
     );
     let ascii = scenario.output.ascii_rasters;
-    let with = simulate(&sim, true, "with forest")?;
-    let without = simulate(&sim, false, "without forest")?;
+    let site_name = PathBuf::from(format!("built-in site {}", scenario.name));
+    let with = simulate(&sim, &site_name, true, "with forest")?;
+    let without = simulate(&sim, &site_name, false, "without forest")?;
     let effect = ForestEffect::new(&with, &without);
     let effect_files = effect
         .write(out, ascii)

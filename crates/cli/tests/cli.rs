@@ -394,6 +394,54 @@ fn a_dem_of_kilometre_cells_is_bad_input() {
     );
 }
 
+/// `[[release.points]] z_m`: `check` lists the point with its centre's elevation; `z_m`
+/// together with `height_m`, or one that would start the rock in the ground, is bad input
+/// (exit 2) naming the scenario file, the point and the keys or the elevations.
+#[test]
+fn release_point_z_m_is_checked_and_listed() {
+    let (_tmp, dir) = site("leine-ramp-40");
+    let path = dir.join("scenario.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let gap = "height_m = 2.0\n";
+    assert!(text.contains(gap), "{text}");
+    let out = ok(rockfall(&["check", s(&path)]));
+    assert!(
+        out.contains("release points  [0] (40, 160) m, height_m 2 m"),
+        "{out}"
+    );
+
+    std::fs::write(&path, text.replace(gap, "z_m = 1000.25\n")).unwrap();
+    let out = ok(rockfall(&["check", s(&path)]));
+    assert!(
+        out.contains("[0] (40, 160) m, z_m 1000.25 m (centre)"),
+        "{out}"
+    );
+
+    std::fs::write(&path, text.replace(gap, "height_m = 2.0\nz_m = 1000\n")).unwrap();
+    bad_input(
+        rockfall(&["check", s(&path)]),
+        &[
+            "scenario.toml",
+            "release.points[0]",
+            "`height_m`",
+            "`z_m`",
+            "not both",
+        ],
+    );
+
+    std::fs::write(&path, text.replace(gap, "z_m = -3.5\n")).unwrap();
+    let needles = [
+        "scenario.toml",
+        "release.points[0]: z_m = -3.5 m puts the rock into the ground",
+        "the ground under its centre (40, 160) is at",
+    ];
+    let refused = rockfall(&["check", s(&path)]);
+    assert!(!refused.stdout.contains(": ok"), "{refused}");
+    bad_input(refused, &needles);
+    let out = dir.join("out");
+    bad_input(rockfall(&["run", s(&path), "--out", s(&out)]), &needles);
+}
+
 #[test]
 fn check_states_only_what_is_released_with_rounded_volumes() {
     // a rigid scenario released from one point, with a named rock

@@ -27,7 +27,7 @@ mod rocks;
 
 pub use plan::Plan;
 pub use pool::{PoolError, RunOptions};
-pub use release::{Origin, Release, Releases, RockNumbering};
+pub use release::{InsideGround, Origin, Release, Releases, RockNumbering};
 pub use rocks::RockSet;
 
 use rockfall_results::Tally;

@@ -1,6 +1,6 @@
 //! One release list, rock numbering and random-stream key scheme for both engines.
 
-use rockfall_scenario::Scenario;
+use rockfall_scenario::{Scenario, StartHeight};
 use std::ops::Range;
 
 /// Where a release comes from in the scenario.
@@ -19,8 +19,9 @@ pub struct Release {
     pub origin: Origin,
     /// Release position in plan (x, y), m: the cell centre or the point.
     pub xy_m: [f64; 2],
-    /// Smallest vertical gap between the rock and the terrain, m (≥ 0).
-    pub height_m: f64,
+    /// How high the rock starts: a gap between the ground under its centre and its lowest
+    /// point (m, ≥ 0), or its centre's elevation (m); see [`StartHeight`].
+    pub start: StartHeight,
     /// Initial velocity (x, y, z), m/s.
     pub velocity_ms: [f64; 3],
     /// Initial angular velocity (x, y, z) in the world frame, rad/s.
@@ -40,6 +41,59 @@ impl Release {
             Origin::Point(k) => [1, k as u64],
         }
     }
+
+    /// The elevation of the rock's centre at release, m, over ground at `ground_z_m` (m, under
+    /// the centre) for a rock reaching `extent_below_m` (m) below its centre: the one
+    /// definition of both engines, [`StartHeight::centre_z_m`].
+    pub fn centre_z_m(&self, ground_z_m: f64, extent_below_m: f64) -> f64 {
+        self.start.centre_z_m(ground_z_m, extent_below_m)
+    }
+
+    /// `Ok` when the rock, reaching `extent_below_m` (m) below its centre, starts out of the
+    /// ground at `ground_z_m` (m) under its centre; a `z_m` that puts it in the ground is an
+    /// [`InsideGround`] error naming the release point.
+    pub fn check_fits(&self, ground_z_m: f64, extent_below_m: f64) -> Result<(), InsideGround> {
+        match self.start {
+            StartHeight::CentreZ { z_m } if !self.start.fits(ground_z_m, extent_below_m) => {
+                Err(InsideGround {
+                    point: match self.origin {
+                        Origin::Point(k) => Some(k),
+                        Origin::Cell(_) => None,
+                    },
+                    xy_m: self.xy_m,
+                    z_m,
+                    ground_z_m,
+                    extent_below_m,
+                })
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+/// A release point whose `z_m` puts its rock (partly) in the ground: the centre less than the
+/// rock's reach below it above the ground under the centre.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error(
+    "{}: z_m = {z_m} m puts the rock into the ground: the ground under its centre ({}, {}) \
+     is at {ground_z_m} m and the rock reaches {extent_below_m} m below its centre, so z_m must \
+     be at least {} m",
+    point.map_or("release".to_string(), |k| format!("release.points[{k}]")),
+    xy_m[0],
+    xy_m[1],
+    ground_z_m + extent_below_m
+)]
+pub struct InsideGround {
+    /// The release point's index in the scenario (`None` for a source cell).
+    pub point: Option<usize>,
+    /// The point (x, y), m.
+    pub xy_m: [f64; 2],
+    /// The elevation asked for the centre, m.
+    pub z_m: f64,
+    /// The ground's elevation under the centre, m.
+    pub ground_z_m: f64,
+    /// How far the rock reaches below its centre, m.
+    pub extent_below_m: f64,
 }
 
 /// The releases of a scenario with the global numbering of their rocks.
@@ -51,8 +105,9 @@ pub struct Releases {
 
 impl Releases {
     /// The releases of `scenario` (already validated): its source cells first, ascending, each
-    /// with `rocks_per_cell` rocks released `cell_height_m` above the cell centre, then its
-    /// points in file order with `rocks_per_point` rocks each. Negative heights count as 0.
+    /// with `rocks_per_cell` rocks released with the gap `cell_height_m` over the cell centre,
+    /// then its points in file order with `rocks_per_point` rocks each. Negative gaps count
+    /// as 0.
     pub fn of(scenario: &Scenario) -> Releases {
         let g = *scenario.terrain.dem.geometry();
         let rel = &scenario.release;
@@ -63,7 +118,9 @@ impl Releases {
             Release {
                 origin: Origin::Cell(cell),
                 xy_m: [x, y],
-                height_m: rel.cell_height_m.max(0.0),
+                start: StartHeight::Gap {
+                    gap_m: rel.cell_height_m.max(0.0),
+                },
                 velocity_ms: rel.cell_velocity_ms,
                 angular_velocity_rads: [0.0; 3],
                 orientation_wxyz: None,
@@ -73,7 +130,12 @@ impl Releases {
         let points = rel.points.iter().enumerate().map(|(k, pt)| Release {
             origin: Origin::Point(k),
             xy_m: [pt.x_m, pt.y_m],
-            height_m: pt.height_m.max(0.0),
+            start: match pt.start {
+                StartHeight::Gap { gap_m } => StartHeight::Gap {
+                    gap_m: gap_m.max(0.0),
+                },
+                z @ StartHeight::CentreZ { .. } => z,
+            },
             velocity_ms: pt.velocity_ms,
             angular_velocity_rads: pt.angular_velocity_rads,
             orientation_wxyz: pt.orientation_wxyz,
@@ -171,7 +233,7 @@ mod tests {
         let r = |origin| Release {
             origin,
             xy_m: [0.0; 2],
-            height_m: 0.0,
+            start: StartHeight::Gap { gap_m: 0.0 },
             velocity_ms: [0.0; 3],
             angular_velocity_rads: [0.0; 3],
             orientation_wxyz: None,

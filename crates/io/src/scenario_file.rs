@@ -7,14 +7,15 @@ use crate::{InputError, scenario_error, trees};
 use rockfall_forest::StandOptions;
 use rockfall_raster::{Crs, Field, Grid, read_grid};
 use rockfall_scenario::{
-    Engine, ForestSpec, LumpedSettings, Nets, OutputSettings, Release, ReleasePoint, RigidParams,
-    Scenario, Screen, SimulationSettings, Stands,
+    Engine, ForestSpec, LumpedSettings, Nets, OutputSettings, RigidParams, Scenario, Screen,
+    SimulationSettings, Stands,
 };
 use rockfall_terrain::{Dem, SurfaceMap, Terrain};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
+mod release;
 mod rock;
 
 /// Default soil type when a scenario gives none: class 4 (talus slope, r_n 0.38).
@@ -237,63 +238,6 @@ impl Resolver {
             rg10_m: self.field("rg10", t.rg10_m, 0.0)?,
         };
         Terrain::new(dem, surface).map_err(|e| scenario_error(e.into(), &self.sources, &self.file))
-    }
-
-    fn release(&mut self, r: schema::ReleaseSec, terrain: &Terrain) -> Result<Release, InputError> {
-        let cells = match r.cells.map(Self::layer_ref) {
-            None => Vec::new(),
-            Some(Ok((p, layer))) => {
-                let l = self.layer("release.cells", &p, layer.as_deref())?;
-                let cells = inputs::release_cells(&l, &self.frame()?)?;
-                self.notes.push(inputs::describe(
-                    "release.cells",
-                    &l,
-                    cells.len(),
-                    "cells covered",
-                ));
-                cells
-            }
-            Some(Err(p)) => {
-                let p = &p;
-                let g = self.grid("release.cells", p)?;
-                let path = self.path(p);
-                terrain
-                    .dem
-                    .geometry()
-                    .check_aligned(g.geometry())
-                    .map_err(|m| InputError::invalid(&path, m.to_string()))?;
-                let cells: Vec<usize> = g
-                    .iter_valid()
-                    .filter(|(_, _, v)| *v > 0.0)
-                    .map(|(row, col, _)| g.geometry().index(row, col))
-                    .collect();
-                if cells.is_empty() {
-                    return Err(InputError::invalid(
-                        &path,
-                        "release raster has no cell > 0: nothing to release",
-                    ));
-                }
-                cells
-            }
-        };
-        let points = r
-            .points
-            .into_iter()
-            .map(|p| ReleasePoint {
-                x_m: p.x_m,
-                y_m: p.y_m,
-                height_m: p.height_m.unwrap_or(0.0),
-                velocity_ms: p.velocity_ms.unwrap_or([0.0; 3]),
-                angular_velocity_rads: p.angular_velocity_rads.unwrap_or([0.0; 3]),
-                orientation_wxyz: p.orientation_wxyz,
-            })
-            .collect();
-        Ok(Release {
-            cells,
-            cell_height_m: r.height_m.unwrap_or(0.0),
-            cell_velocity_ms: r.velocity_ms.unwrap_or([0.0; 3]),
-            points,
-        })
     }
 
     fn forest(&mut self, f: schema::ForestSec) -> Result<ForestSpec, InputError> {

@@ -10,7 +10,7 @@
 
 use crate::{InputError, trees, write_text};
 use rockfall_raster::{Field, Grid, GridGeometry, ascii_grid};
-use rockfall_scenario::{ForestSpec, RockShape, Scenario};
+use rockfall_scenario::{ForestSpec, RockShape, Scenario, StartHeight};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -227,12 +227,16 @@ impl Writer {
         }
         for p in &rel.points {
             t += "\n[[release.points]]\n";
+            let (key, value) = match p.start {
+                StartHeight::Gap { gap_m } => ("height_m", gap_m),
+                StartHeight::CentreZ { z_m } => ("z_m", z_m),
+            };
             let _ = writeln!(
                 t,
-                "x_m = {}\ny_m = {}\nheight_m = {}",
+                "x_m = {}\ny_m = {}\n{key} = {}",
                 num(p.x_m),
                 num(p.y_m),
-                num(p.height_m)
+                num(value)
             );
             let _ = writeln!(t, "velocity_ms = {}", arr(&p.velocity_ms));
             let _ = writeln!(

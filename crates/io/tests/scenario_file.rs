@@ -5,7 +5,7 @@
 
 use rockfall_io::load;
 use rockfall_raster::{Field, Grid, GridGeometry, ascii_grid};
-use rockfall_scenario::{BlockShape, Engine, ForestSpec, RockShape, Scenario};
+use rockfall_scenario::{BlockShape, Engine, ForestSpec, RockShape, Scenario, StartHeight};
 use std::path::{Path, PathBuf};
 use tempfile::TempDir;
 
@@ -170,7 +170,10 @@ fn minimal_rigid_scenario_parses() {
     assert_eq!(s.rock.density_kg_m3, Field::Const(2700.0));
     let p = &s.release.points[..];
     assert_eq!(p.len(), 1);
-    assert_eq!((p[0].x_m, p[0].y_m, p[0].height_m), (20.0, 40.0, 0.001));
+    assert_eq!(
+        (p[0].x_m, p[0].y_m, p[0].start),
+        (20.0, 40.0, StartHeight::Gap { gap_m: 0.001 })
+    );
     assert_eq!(p[0].orientation_wxyz, Some([1.0, 0.0, 0.0, 0.0]));
     assert!(s.release.cells.is_empty());
     assert_eq!((s.contact.ground.mu, s.contact.tree.mu), (0.3, 0.6));
@@ -346,7 +349,7 @@ fn unknown_keys_are_errors_naming_key_and_line() {
     let cases = [
         ("seed = 1", "colour = 1", "colour"),
         ("density_kg_m3 = 2700", "colour = 1", "colour"),
-        ("height_m = 0.001", "z_m = 3", "z_m"),
+        ("height_m = 0.001", "height = 3", "height"),
         ("trajectories = 1", "ascii = true", "ascii"),
         ("eps_t = 0.0", "eps = 0.5", "eps"),
     ];
@@ -476,6 +479,43 @@ fn release_points_must_be_on_the_terrain_with_a_unit_quaternion() {
         "velocity_ms = [nan, 0.0, 0.0]",
     );
     fails(&text, &["release.points[0].velocity_ms", "not finite"]);
+}
+
+/// `z_m` gives the centre's elevation instead of a gap, and round-trips through a written
+/// scenario; a point with both `z_m` and `height_m` is refused naming the point and both
+/// keys (exit 2 on the command line: an `InputError`), and so is a `z_m` that is not finite.
+#[test]
+fn z_m_replaces_height_m_and_never_comes_with_it() {
+    let text = edit(MINIMAL, "height_m = 0.001", "z_m = 41.25");
+    let s = loads(&text);
+    assert_eq!(
+        s.release.points[0].start,
+        StartHeight::CentreZ { z_m: 41.25 }
+    );
+    // written back as z_m, read back the same
+    let dir = tempfile::tempdir().unwrap();
+    rockfall_io::write::write_scenario_dir(&s, dir.path()).unwrap();
+    let written = std::fs::read_to_string(dir.path().join("scenario.toml")).unwrap();
+    assert!(
+        written.contains("z_m = 41.25") && !written.contains("height_m = 0"),
+        "{written}"
+    );
+    let back = load(&dir.path().join("scenario.toml")).unwrap();
+    assert_eq!(back.release, s.release);
+
+    let both = edit(MINIMAL, "height_m = 0.001", "height_m = 0.001\nz_m = 41.25");
+    fails(
+        &both,
+        &[
+            "scenario.toml",
+            "release.points[0]",
+            "`height_m`",
+            "`z_m`",
+            "not both",
+        ],
+    );
+    let nan = edit(MINIMAL, "height_m = 0.001", "z_m = nan");
+    fails(&nan, &["scenario.toml", "release.points[0].z_m", "finite"]);
 }
 
 #[test]

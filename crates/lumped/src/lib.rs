@@ -39,11 +39,11 @@ pub use vec3::V3;
 use body::RockBody;
 use forestry::Trees;
 use ground::{Ground, SurfNormal};
-use rockfall_engine::{Engine, Origin, Release, Rock};
+use rockfall_engine::{Engine, InsideGround, Origin, Release, Rock};
 use rockfall_forest::Forest;
 use rockfall_results::{ScreenSet, Tally};
 use rockfall_rng::Rng;
-use rockfall_scenario::{LumpedSettings, Scenario};
+use rockfall_scenario::{LumpedSettings, Scenario, StartHeight};
 use trajectory::{Launch, Scratch, World, simulate};
 
 pub use rockfall_engine::G_MS2;
@@ -77,6 +77,20 @@ pub enum LumpedError {
         /// y, m.
         y_m: f64,
     },
+    /// A release point's `z_m` puts the rock into the ground.
+    #[error(transparent)]
+    InsideGround(#[from] InsideGround),
+}
+
+impl LumpedError {
+    /// The scenario keys most likely at fault, for naming their file: none for a release
+    /// point's `z_m` (the scenario file's own key), else the rock density and the DEM.
+    pub fn parameter_keys(&self) -> &'static [&'static str] {
+        match self {
+            LumpedError::InsideGround(_) => &[],
+            _ => &["rockdensity", "dem"],
+        }
+    }
 }
 
 /// A scenario prepared for the lumped engine: its terrain arrays, stems, screens and
@@ -167,7 +181,9 @@ impl Engine for LumpedModel<'_> {
     }
 
     /// The rock of the release's cell (its block shape, dimensions and density), its centre
-    /// R + the release gap above the ground at the release position.
+    /// where the release puts it ([`Release::centre_z_m`]): R (the rock is a sphere of radius
+    /// R, seed 000) plus the gap above the ground under it, or at `z_m`, which must leave the
+    /// sphere out of that ground ([`LumpedError::InsideGround`]).
     fn launch(&self, scenario: &Scenario, release: &Release) -> Result<Launch, LumpedError> {
         let g = *self.ground.geometry();
         let [x, y] = release.xy_m;
@@ -189,10 +205,13 @@ impl Engine for LumpedModel<'_> {
                 },
                 Origin::Point(_) => off(),
             })?;
+        release.check_fits(z, body.radius_m)?;
         Ok(Launch {
             rock_id: 0,
             source_cell: cell,
-            p: V3::new(x, y, z + body.radius_m + release.height_m),
+            p: V3::new(x, y, release.centre_z_m(z, body.radius_m)),
+            ground_z_m: z,
+            start: release.start,
             v: V3::from_array(release.velocity_ms),
             w: V3::from_array(release.angular_velocity_rads),
             body,
@@ -221,9 +240,12 @@ impl Engine for LumpedModel<'_> {
             ..*launch
         };
         if rock.volume_factor != 1.0 {
-            // the rock rests on the same ground point: its centre moves with its radius
             let body = launch.body.with_volume_factor(rock.volume_factor);
-            launch.p.z += body.radius_m - launch.body.radius_m;
+            launch.p.z = match launch.start {
+                // the same gap under the rock: its centre moves with its radius
+                StartHeight::Gap { .. } => launch.p.z + (body.radius_m - launch.body.radius_m),
+                z @ StartHeight::CentreZ { .. } => z.centre_z_m(launch.ground_z_m, body.radius_m),
+            };
             launch.body = body;
         }
         simulate(&self.world(), &launch, rng, tally, scratch);

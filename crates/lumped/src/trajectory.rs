@@ -15,7 +15,7 @@ use crate::segment::Seg;
 use crate::vec3::V3Ext;
 use rockfall_results::{CellVisit, Event, Outcome, RockEnd, RockStart, ScreenSet, Tally};
 use rockfall_rng::Rng;
-use rockfall_scenario::LumpedSettings;
+use rockfall_scenario::{LumpedSettings, StartHeight};
 
 /// A rock still moving after this many events is given up as [`Outcome::Failed`] (a guard
 /// against a defect, never reached on the built-in sites).
@@ -50,6 +50,10 @@ pub struct Launch {
     pub w: V3,
     /// The rock.
     pub body: RockBody,
+    /// The ground's elevation under the release position, m.
+    pub ground_z_m: f64,
+    /// How the release set the centre's height (what a rock of another volume keeps).
+    pub start: StartHeight,
 }
 
 /// Reusable per-worker buffers.

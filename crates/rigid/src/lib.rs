@@ -17,15 +17,17 @@ pub use math::{M3, Quat, V3};
 pub mod ground;
 pub mod immersion;
 mod nets;
+pub mod release;
 pub mod rock;
 pub mod scar;
 pub mod stems;
 pub mod step;
 
 use ground::{Ground, Under};
+use release::{circumradius_m, extent_below_m};
 use rock::{Launch, StopRule, World, simulate};
 use rockfall_engine::nets::NetMap;
-use rockfall_engine::{Engine, Origin, Release, Rock};
+use rockfall_engine::{Engine, InsideGround, Origin, Release, Rock};
 use rockfall_forest::Forest;
 use rockfall_results::{ScreenSet, Tally};
 use rockfall_rng::Rng;
@@ -61,6 +63,9 @@ pub enum RigidError {
         /// The class number.
         id: u8,
     },
+    /// A release point's `z_m` puts the rock into the ground.
+    #[error(transparent)]
+    InsideGround(#[from] InsideGround),
     /// A release has an unusable value.
     #[error("release at ({x_m}, {y_m}): {what}")]
     BadRelease {
@@ -71,6 +76,17 @@ pub enum RigidError {
         /// What is wrong.
         what: String,
     },
+}
+
+impl RigidError {
+    /// The scenario keys most likely at fault, for naming their file: none for a release
+    /// point's `z_m` (the scenario file's own key), else the rock shape and the DEM.
+    pub fn parameter_keys(&self) -> &'static [&'static str] {
+        match self {
+            RigidError::InsideGround(_) => &[],
+            _ => &["rock.shape", "dem"],
+        }
+    }
 }
 
 /// Engine settings beyond the scenario's contact laws and time step.
@@ -228,8 +244,10 @@ impl Engine for RigidModel<'_> {
         "rigid"
     }
 
-    /// The release position on the ground (refused off the terrain) and its orientation, a
-    /// finite non-zero quaternion normalised, or random per rock.
+    /// The release position on the ground (refused off the terrain), its orientation, a
+    /// finite non-zero quaternion normalised, or random per rock, and how high it starts
+    /// ([`release::release_centre_z_m`]); a `z_m` that puts the rock into the ground under its
+    /// centre is refused ([`RigidError::InsideGround`]).
     fn launch(&self, _scenario: &Scenario, release: &Release) -> Result<Launch, RigidError> {
         let [x, y] = release.xy_m;
         let off = RigidError::OffTerrain { x_m: x, y_m: y };
@@ -252,6 +270,14 @@ impl Engine for RigidModel<'_> {
                 Some(q.normalize())
             }
         };
+        // a `z_m` must leave the rock out of the ground under its centre: in the orientation
+        // given, or in every orientation a random one can take
+        let ground_z_m = (lat.height_m(x, y)).ok_or(RigidError::OffTerrain { x_m: x, y_m: y })?;
+        let extent_m = orientation.map_or_else(
+            || circumradius_m(&self.body),
+            |q| extent_below_m(&self.body, q),
+        );
+        release.check_fits(ground_z_m, extent_m)?;
         Ok(Launch {
             rock_id: 0,
             source_cell: match release.origin {
@@ -259,7 +285,7 @@ impl Engine for RigidModel<'_> {
                 Origin::Point(_) => cell,
             },
             xy_m: [x, y],
-            height_m: release.height_m,
+            start: release.start,
             velocity_ms: V3::from_array(release.velocity_ms),
             angular_velocity_rads: V3::from_array(release.angular_velocity_rads),
             orientation,

@@ -1,9 +1,7 @@
 //! One rock's run: release, time steps until it rests, leaves the DEM or runs out of time,
 //! and what it reports to the tally on the way.
 //!
-//! **Release.** The rock takes its orientation from the release (or a uniformly random one,
-//! Shoemake 1992, from its own random stream) and is lowered over (x, y) until the lowest
-//! vertical gap between a hull vertex and the ground is the release's `height_m`.
+//! **Release.** Orientation and height as [`crate::release`] sets them.
 //!
 //! **Rest.** A rock touching the ground whose centre moves slower than the stop speed and
 //! whose hull points move slower than it by rotation (|ω|·circumradius) for the rest time in
@@ -28,13 +26,15 @@ use crate::rotation::rotational_energy_j;
 use crate::shape::RockBody;
 use crate::stems::Stand;
 use crate::step::{RockState, StepParams, StepReport, StepScratch, step};
-use rand::RngExt;
 use rockfall_engine::nets::NetMap;
 use rockfall_results::{
     CellVisit, Event, Motion, Outcome, RockEnd, RockStart, ScreenCrossing, ScreenSet, Tally,
     TrajectoryRow,
 };
 use rockfall_rng::Rng;
+use rockfall_scenario::StartHeight;
+
+pub use crate::release::{random_orientation, release_centre_z_m};
 
 /// When a rock is at rest, and when it has failed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -87,47 +87,15 @@ pub struct Launch {
     pub source_cell: usize,
     /// Release point (x, y), m.
     pub xy_m: [f64; 2],
-    /// Smallest vertical gap between hull and ground at release, m.
-    pub height_m: f64,
+    /// How high the rock starts: a gap between the ground under its centre and its lowest
+    /// hull vertex, or its centre's elevation.
+    pub start: StartHeight,
     /// Initial velocity, m/s.
     pub velocity_ms: V3,
     /// Initial angular velocity, world frame, rad/s.
     pub angular_velocity_rads: V3,
     /// Orientation; `None` for a random one.
     pub orientation: Option<Quat>,
-}
-
-/// A uniformly random rotation (Shoemake 1992, "Uniform random rotations", Graphics Gems
-/// III): from three uniform numbers u1, u2, u3 in [0, 1).
-pub fn random_orientation(rng: &mut Rng) -> Quat {
-    let (u1, u2, u3): (f64, f64, f64) = (rng.random(), rng.random(), rng.random());
-    let tau = std::f64::consts::TAU;
-    let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
-    Quat::from_xyzw(
-        a * (tau * u2).sin(),
-        a * (tau * u2).cos(),
-        b * (tau * u3).sin(),
-        b * (tau * u3).cos(),
-    )
-    .normalize()
-}
-
-/// Height of the centre of mass that leaves the lowest hull vertex `gap_m` above the
-/// ground, with the rock at (x, y) in orientation `q`; `None` when a vertex is off the DEM.
-pub fn release_height_m(
-    ground: &Ground,
-    body: &RockBody,
-    q: Quat,
-    xy: [f64; 2],
-    gap_m: f64,
-) -> Option<f64> {
-    let mut z = f64::NEG_INFINITY;
-    for v in &body.geometry.vertices_m {
-        let w = q * *v;
-        let h = ground.lattice().height_m(xy[0] + w.x, xy[1] + w.y)?;
-        z = z.max(h - w.z);
-    }
-    Some(z + gap_m)
 }
 
 /// Per-rock bookkeeping.
@@ -197,7 +165,7 @@ pub fn simulate(
         .orientation
         .unwrap_or_else(|| random_orientation(rng));
     let ground = world.ground;
-    let z = release_height_m(ground, body, q, launch.xy_m, launch.height_m);
+    let z = release_centre_z_m(ground, body, q, launch.xy_m, launch.start);
     let start = V3::new(launch.xy_m[0], launch.xy_m[1], z.unwrap_or(f64::NAN));
     tally.begin_rock(RockStart {
         rock_id: launch.rock_id,

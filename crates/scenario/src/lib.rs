@@ -31,7 +31,7 @@ pub use params::{
     MAX_ENERGY_THRESHOLDS, MohMode, OutputSettings, RigidParams, SimulationSettings, Slippage,
     TangentialLaw, UNTIL_STABLE_DEFAULT_CAP,
 };
-pub use release::{Release, ReleasePoint};
+pub use release::{Release, ReleasePoint, StartHeight};
 pub use rock::{BlockShape, RockShape, RockSpec};
 pub use summary::{FieldRange, Overview};
 pub use volume::{ObservedVolumes, VolumeDistribution, VolumeDistributionError};

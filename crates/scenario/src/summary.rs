@@ -1,6 +1,6 @@
 //! What `rockfall check` prints: a summary of a validated scenario.
 
-use crate::{ForestSpec, RockShape, Scenario};
+use crate::{ForestSpec, RockShape, Scenario, StartHeight};
 use rockfall_forest::Forest;
 use rockfall_raster::Field;
 use std::fmt;
@@ -83,6 +83,9 @@ impl Overview {
             "release",
             release_text(rel.cells.len(), rel.points.len(), sim),
         );
+        if !rel.points.is_empty() {
+            add("release points", points_text(&rel.points));
+        }
         add("rock", rock_text(scenario));
         add("forest", forest_text(scenario, forest));
         if scenario.nets.is_some() {
@@ -170,6 +173,27 @@ fn release_text(cells: usize, points: usize, sim: &crate::SimulationSettings) ->
         .saturating_mul(sim.rocks_per_cell)
         .saturating_add((points as u64).saturating_mul(sim.rocks_per_point));
     format!("{} = {total} rocks", parts.join(", "))
+}
+
+/// Release points listed at most by `check`; more are counted.
+const POINTS_LISTED: usize = 5;
+
+/// `[0] (612.5, 5093) m, height_m 0.5 m; [1] (600, 5080) m, z_m 1012.3 m (centre)`: the first
+/// [`POINTS_LISTED`] points with how high each starts, as the file gives it.
+fn points_text(points: &[crate::ReleasePoint]) -> String {
+    let mut parts: Vec<String> = (points.iter().enumerate().take(POINTS_LISTED))
+        .map(|(k, p)| {
+            let start = match p.start {
+                StartHeight::Gap { gap_m } => format!("height_m {gap_m} m"),
+                StartHeight::CentreZ { z_m } => format!("z_m {z_m} m (centre)"),
+            };
+            format!("[{k}] ({}, {}) m, {start}", p.x_m, p.y_m)
+        })
+        .collect();
+    if points.len() > POINTS_LISTED {
+        parts.push(format!("… {} more", points.len() - POINTS_LISTED));
+    }
+    parts.join("; ")
 }
 
 fn rock_shape_text(s: &Scenario) -> String {

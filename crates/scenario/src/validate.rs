@@ -1,6 +1,6 @@
 //! Everything about a scenario that can be checked before simulating.
 
-use crate::{ForestSpec, RockShape, Scenario, ScenarioError};
+use crate::{ForestSpec, RockShape, Scenario, ScenarioError, StartHeight};
 use rockfall_raster::{Field, GridGeometry};
 
 pub(crate) type Check = Result<(), ScenarioError>;
@@ -168,7 +168,15 @@ impl Scenario {
                     ),
                 ));
             }
-            finite_nonneg(&format!("{name}.height_m"), p.height_m)?;
+            match p.start {
+                StartHeight::Gap { gap_m } => finite_nonneg(&format!("{name}.height_m"), gap_m)?,
+                // whether the rock fits above the ground there is the engines' to say: only
+                // they know how far it reaches below its centre
+                StartHeight::CentreZ { z_m } if !z_m.is_finite() => {
+                    return Err(out_of_range(&format!("{name}.z_m"), None, z_m, "finite"));
+                }
+                StartHeight::CentreZ { .. } => {}
+            }
             finite3(&format!("{name}.velocity_ms"), p.velocity_ms)?;
             finite3(
                 &format!("{name}.angular_velocity_rads"),

@@ -380,7 +380,7 @@ impl<'a> Prepared<'a> {
         let (plan, parameters) = match scenario.engine {
             EngineKind::Lumped => {
                 let bad = |e: rockfall_lumped::LumpedError| {
-                    SimError::engine(scenario, &e, &["rockdensity", "dem"])
+                    SimError::engine(scenario, &e, e.parameter_keys())
                 };
                 let model = LumpedModel::new(scenario, forest).map_err(bad)?;
                 let plan = Plan::new(model, scenario).map_err(bad)?;
@@ -389,7 +389,7 @@ impl<'a> Prepared<'a> {
             }
             EngineKind::Rigid => {
                 let bad = |e: rockfall_rigid::RigidError| {
-                    SimError::engine(scenario, &e, &["rock.shape", "dem"])
+                    SimError::engine(scenario, &e, e.parameter_keys())
                 };
                 let model = RigidModel::new(scenario, forest).map_err(bad)?;
                 let plan = Plan::new(model, scenario).map_err(bad)?;

@@ -333,7 +333,7 @@ fn the_fingerprint_follows_what_shapes_the_results_not_where_it_was_read() {
     moved.notes.push("read from a copy".into());
     assert_eq!(share::fingerprint(&moved), f);
     type Edit<'a> = (&'a str, &'a dyn Fn(&mut Scenario));
-    let edits: [Edit; 7] = [
+    let edits: [Edit; 8] = [
         ("dem", &|s| {
             let mut grid = s.terrain.dem.grid().clone();
             let v = grid.get(3, 4).unwrap();
@@ -348,7 +348,13 @@ fn the_fingerprint_follows_what_shapes_the_results_not_where_it_was_read() {
         ("rock", &|s| {
             s.rock.density_kg_m3 = rockfall_raster::Field::Const(2000.0)
         }),
-        ("release", &|s| s.release.points[0].height_m += 0.1),
+        ("release", &|s| {
+            let gap_m = s.release.points[0].start.gap_m().unwrap_or(0.0);
+            s.release.points[0].start = rockfall_scenario::StartHeight::Gap { gap_m: gap_m + 0.1 };
+        }),
+        ("release z_m", &|s| {
+            s.release.points[0].start = rockfall_scenario::StartHeight::CentreZ { z_m: 1e3 };
+        }),
         ("screens", &|s| s.screens.truncate(1)),
         ("rocks", &|s| s.simulation.rocks_per_point += 1),
         ("lumped", &|s| s.lumped.rt_variation *= 0.5),

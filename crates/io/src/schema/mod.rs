@@ -296,7 +296,8 @@ pub struct ReleaseSec {
     /// The source cells: a raster on the DEM's grid (cells > 0 release rocks) or a polygon
     /// layer (the cells whose centres its polygons hold). Default: none (then give points).
     pub cells: Option<LayerRef>,
-    /// Gap between rock and ground at release from a cell, m. Default 0. Finite and ≥ 0.
+    /// Gap between the ground under the rock's centre and the rock's lowest point at release
+    /// from a cell, m (both engines). Default 0. Finite and ≥ 0.
     #[schemars(extend("x-unit" = "m", "default" = 0.0, "minimum" = 0.0))]
     pub height_m: Option<f64>,
     /// Initial velocity [vx, vy, vz] of rocks released from a cell, m/s. Default
@@ -320,10 +321,16 @@ pub struct PointSec {
     /// Northing of the point in the DEM's CRS, m; on the terrain. Required.
     #[schemars(extend("x-unit" = "m"))]
     pub y_m: f64,
-    /// Smallest vertical gap between rock and terrain at release, m. Default 0. Finite and
-    /// ≥ 0.
+    /// Gap between the ground under the rock's centre and the rock's lowest point at release,
+    /// m (both engines; a rock the gap would leave partly in the ground starts resting on
+    /// it). Not with `z_m`. Default 0. Finite and ≥ 0.
     #[schemars(extend("x-unit" = "m", "default" = 0.0, "minimum" = 0.0))]
     pub height_m: Option<f64>,
+    /// Elevation of the rock's centre (of mass) at release, m, in the DEM's vertical datum:
+    /// a surveyed drop point. Not with `height_m`; a `z_m` that starts the rock in the ground
+    /// under its centre is refused. Default: from `height_m`. Finite.
+    #[schemars(extend("x-unit" = "m"))]
+    pub z_m: Option<f64>,
     /// Initial velocity [vx, vy, vz], m/s. Default [0, 0, 0] (at rest). Finite.
     #[schemars(extend("x-unit" = "m/s", "default" = [0.0, 0.0, 0.0]))]
     pub velocity_ms: Option<[f64; 3]>,
