@@ -76,8 +76,8 @@ impl Release {
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 #[error(
     "{}: z_m = {z_m} m puts the rock into the ground: the ground under its centre ({}, {}) \
-     is at {ground_z_m} m and the rock reaches {extent_below_m} m below its centre, so z_m must \
-     be at least {} m",
+     is at {ground_z_m:.3} m and the rock reaches {extent_below_m:.3} m below its centre, so \
+     z_m must be at least {:.3} m",
     point.map_or("release".to_string(), |k| format!("release.points[{k}]")),
     xy_m[0],
     xy_m[1],

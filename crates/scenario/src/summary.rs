@@ -157,22 +157,27 @@ fn release_text(cells: usize, points: usize, sim: &crate::SimulationSettings) ->
     let mut parts = Vec::new();
     if cells > 0 || points == 0 {
         parts.push(format!(
-            "{} × {} rocks",
+            "{} × {}",
             plural(cells, "source cell", "source cells"),
-            sim.rocks_per_cell
+            plural(sim.rocks_per_cell as usize, "rock", "rocks")
         ));
     }
     if points > 0 {
         parts.push(format!(
-            "{} × {} rocks",
+            "{} × {}",
             plural(points, "point", "points"),
-            sim.rocks_per_point
+            plural(sim.rocks_per_point as usize, "rock", "rocks")
         ));
     }
     let total = (cells as u64)
         .saturating_mul(sim.rocks_per_cell)
         .saturating_add((points as u64).saturating_mul(sim.rocks_per_point));
-    format!("{} = {total} rocks", parts.join(", "))
+    let total = if total == 1 {
+        "1 rock".to_string()
+    } else {
+        format!("{total} rocks")
+    };
+    format!("{} = {total}", parts.join(", "))
 }
 
 /// Release points listed at most by `check`; more are counted.
@@ -390,5 +395,31 @@ impl fmt::Display for Overview {
             writeln!(f, "ignored by the {} engine: {n}", self.engine)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::release_text;
+
+    #[test]
+    fn the_release_is_counted_in_words_that_agree_with_the_numbers() {
+        let sim = |cell: u64, point: u64| crate::SimulationSettings {
+            rocks_per_cell: cell,
+            rocks_per_point: point,
+            ..Default::default()
+        };
+        assert_eq!(
+            release_text(0, 1, &sim(100, 1)),
+            "1 point × 1 rock = 1 rock"
+        );
+        assert_eq!(
+            release_text(12, 2, &sim(100, 1000)),
+            "12 source cells × 100 rocks, 2 points × 1000 rocks = 3200 rocks"
+        );
+        assert_eq!(
+            release_text(1, 0, &sim(1, 5)),
+            "1 source cell × 1 rock = 1 rock"
+        );
     }
 }
