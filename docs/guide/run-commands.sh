@@ -8,6 +8,8 @@
 # - ```sh blocks run as written (set -euo pipefail: any failing command fails the chapter);
 # - ```python blocks run with $PYTHON (a Python with the `rockfall` package installed); without
 #   it they are skipped with a notice, and with CI set that is a failure;
+# - text, toml, rust, json and csv blocks are shown only; any other kind is an error (so that a
+#   command block cannot go unrun by being tagged `bash`);
 # - ```sh,norun blocks are not run here: each line's program must be one that another CI step
 #   runs (cargo builds and tests, pip and the wheel, mpirun, a batch scheduler), listed below.
 # First it checks the relative links of every Markdown page (check-links.py).
@@ -42,6 +44,10 @@ extract() {
       if (info == "sh") kind = "sh"
       else if (info == "python") { kind = "py"; print "run_python <<'"'"'PYGUIDE'"'"'" }
       else if (info == "sh,norun") kind = "norun"
+      else if (info !~ /^(text|toml|rust|json|csv|)$/) {
+        printf "%s:%d: a block of kind `%s`: use sh (run), sh,norun, python, text or toml\n", chapter, NR, info > "/dev/stderr"
+        bad = 1
+      }
       next
     }
     /^```/ && inblock {
@@ -69,7 +75,7 @@ for chapter in "${chapters[@]}"; do
   mkdir -p "$dir"
   ln -s "$repo/docs" "$dir/docs"
   if ! extract "$chapter" > "$work/${chapter%.md}.sh"; then
-    failed+=("$chapter (norun block)")
+    failed+=("$chapter (a norun line or a block kind)")
     continue
   fi
   if ! grep -qv '^\s*$' "$work/${chapter%.md}.sh"; then
