@@ -259,12 +259,13 @@ fn z_m_inside_the_ground_is_refused_naming_the_point() {
         ] {
             assert!(e.contains(needle), "{engine}: `{needle}` not in {e}");
         }
-        // the ground's elevation under the point, as the engine interpolates the DEM
+        // the ground's elevation under the point, as the engine interpolates the DEM, named
+        // to the millimetre
         let named: f64 = (e.split("is at ").nth(1))
             .and_then(|t| t.split(' ').next())
             .and_then(|t| t.parse().ok())
             .unwrap_or_else(|| panic!("{engine}: no ground elevation in {e}"));
-        assert!((named - ground).abs() < 1e-9, "{engine}: {e}");
+        assert!((named - ground).abs() <= 5e-4, "{engine}: {e}");
     }
     // the rigid rock turned vertex-down reaches R below its centre, and so may a randomly
     // turned one: 0.9 R is too low for both, R (its farthest vertex) is enough
