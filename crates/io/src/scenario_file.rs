@@ -254,6 +254,9 @@ impl Resolver {
         if lists.iter().filter(|g| **g).count() != 1 {
             return Err(self.invalid("forest", "give exactly one of `trees` (a point layer), `trees_csv`, `treefile` or stands (`stems_per_ha`, `dbh_mean_cm`, `dbh_sd_cm`, `conifer_percent`)"));
         }
+        if !stands_given {
+            self.note_stand_only_keys(&f);
+        }
         if let Some(r) = f.trees {
             let (p, layer) = Self::layer_ref(r).map_err(|p| {
                 self.invalid("forest.trees", format!("`{p}` is not a vector file (.geojson, .json, .shp, .gpkg); tree lists go in `trees_csv`"))
@@ -309,6 +312,26 @@ impl Resolver {
                 dbh_max_cm: f.dbh_max_cm.unwrap_or(defaults.dbh_max_cm),
             },
         })))
+    }
+
+    /// Notes the keys that shape stands only (heights and the DBH truncation) when the forest
+    /// is a tree list, which gives every stem's DBH and (optionally) height itself.
+    fn note_stand_only_keys(&mut self, f: &schema::ForestSec) {
+        let given: Vec<&str> = [
+            ("height_mean_m", f.height_mean_m.is_some()),
+            ("height_sd_m", f.height_sd_m.is_some()),
+            ("dbh_min_cm", f.dbh_min_cm.is_some()),
+            ("dbh_max_cm", f.dbh_max_cm.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(k, g)| g.then_some(k))
+        .collect();
+        if !given.is_empty() {
+            self.notes.push(format!(
+                "ignored forest.{}: stands only; a tree list gives each stem's DBH and height",
+                given.join(", forest.")
+            ));
+        }
     }
 
     /// The nets and, with `screens = true`, one screen per net.

@@ -593,6 +593,35 @@ fn tree_csv_errors_name_the_csv_and_line() {
     );
 }
 
+/// Keys that shape stands only are noted as ignored with a tree list (they were silently
+/// dropped), and not noted with stands.
+#[test]
+fn stand_only_keys_with_a_tree_list_are_noted_as_ignored() {
+    let dir = tempfile::tempdir().unwrap();
+    small_dem(dir.path());
+    std::fs::write(dir.path().join("trees.csv"), "x_m,y_m,dbh_cm\n10,20,30\n").unwrap();
+    let path = dir.path().join("scenario.toml");
+    let forest = "[forest]\ntrees_csv = \"trees.csv\"\nheight_mean_m = 20\ndbh_max_cm = 90\n";
+    std::fs::write(&path, format!("{MINIMAL}{forest}")).unwrap();
+    let s = load(&path).unwrap();
+    assert!(
+        s.notes
+            .iter()
+            .any(|n| n.contains("ignored forest.height_mean_m, forest.dbh_max_cm")),
+        "{:?}",
+        s.notes
+    );
+    let stands =
+        "[forest]\nstems_per_ha = 300\ndbh_mean_cm = 30\ndbh_sd_cm = 10\nheight_mean_m = 20\n";
+    std::fs::write(&path, format!("{MINIMAL}{stands}")).unwrap();
+    let s = load(&path).unwrap();
+    assert!(
+        !s.notes.iter().any(|n| n.contains("ignored forest")),
+        "{:?}",
+        s.notes
+    );
+}
+
 #[test]
 fn rock_files_must_exist() {
     let text = edit(

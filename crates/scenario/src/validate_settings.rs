@@ -80,7 +80,7 @@ impl Scenario {
                 "lumped.slope_reduction_max_deg",
                 l.slope_reduction_max_deg,
                 (0.0..90.0).contains(&l.slope_reduction_max_deg),
-                "0–90°",
+                "0 ≤ x < 90°",
             ),
             (
                 "lumped.max_lateral_deviation_deg",
