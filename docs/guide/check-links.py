@@ -5,6 +5,7 @@ docs/guide/run-commands.sh; exits 1 naming each broken link by file and line.
 
     python3 docs/guide/check-links.py [REPO]
 """
+import functools
 import pathlib
 import re
 import sys
@@ -19,7 +20,8 @@ def slug(heading: str) -> str:
     return text.replace(" ", "-")
 
 
-def anchors(path: pathlib.Path) -> set:
+@functools.lru_cache(maxsize=None)
+def anchors(path: pathlib.Path) -> frozenset:
     ids, seen, fence = set(), {}, False
     for line in path.read_text(encoding="utf-8").splitlines():
         if line.startswith("```"):
@@ -32,7 +34,7 @@ def anchors(path: pathlib.Path) -> set:
             n = seen.get(base, 0)
             seen[base] = n + 1
             ids.add(base if n == 0 else f"{base}-{n}")
-    return ids
+    return frozenset(ids)
 
 
 def main() -> int:

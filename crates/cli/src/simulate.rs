@@ -378,13 +378,11 @@ fn print_effect(e: &ForestEffectSummary) {
         println!("    E_95, mean: {d:+.1} kJ");
     }
     for a in &e.area_e_95_above {
-        if let (Some(w), Some(o)) = (a.area_m2.with_forest, a.area_m2.without_forest) {
+        if let Some((w, o)) = a.hectares() {
             let e_kj = a.energy_kj;
             println!(
                 "  area reached by ≥ {MIN_REACH_PCT} % of rocks with E_95 > {e_kj} kJ: \
-                 {:.2} ha with, {:.2} ha without",
-                w / 1e4,
-                o / 1e4
+                 {w:.2} ha with, {o:.2} ha without"
             );
         }
     }

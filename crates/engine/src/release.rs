@@ -42,13 +42,6 @@ impl Release {
         }
     }
 
-    /// The elevation of the rock's centre at release, m, over ground at `ground_z_m` (m, under
-    /// the centre) for a rock reaching `extent_below_m` (m) below its centre: the one
-    /// definition of both engines, [`StartHeight::centre_z_m`].
-    pub fn centre_z_m(&self, ground_z_m: f64, extent_below_m: f64) -> f64 {
-        self.start.centre_z_m(ground_z_m, extent_below_m)
-    }
-
     /// `Ok` when the rock, reaching `extent_below_m` (m) below its centre, starts out of the
     /// ground at `ground_z_m` (m) under its centre; a `z_m` that puts it in the ground is an
     /// [`InsideGround`] error naming the release point.
@@ -130,12 +123,7 @@ impl Releases {
         let points = rel.points.iter().enumerate().map(|(k, pt)| Release {
             origin: Origin::Point(k),
             xy_m: [pt.x_m, pt.y_m],
-            start: match pt.start {
-                StartHeight::Gap { gap_m } => StartHeight::Gap {
-                    gap_m: gap_m.max(0.0),
-                },
-                z @ StartHeight::CentreZ { .. } => z,
-            },
+            start: pt.start.with_gap_at_least_zero(),
             velocity_ms: pt.velocity_ms,
             angular_velocity_rads: pt.angular_velocity_rads,
             orientation_wxyz: pt.orientation_wxyz,

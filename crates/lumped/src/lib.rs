@@ -181,7 +181,7 @@ impl Engine for LumpedModel<'_> {
     }
 
     /// The rock of the release's cell (its block shape, dimensions and density), its centre
-    /// where the release puts it ([`Release::centre_z_m`]): R (the rock is a sphere of radius
+    /// where the release puts it ([`StartHeight::centre_z_m`]): R (the rock is a sphere of radius
     /// R, seed 000) plus the gap above the ground under it, or at `z_m`, which must leave the
     /// sphere out of that ground ([`LumpedError::InsideGround`]).
     fn launch(&self, scenario: &Scenario, release: &Release) -> Result<Launch, LumpedError> {
@@ -209,7 +209,7 @@ impl Engine for LumpedModel<'_> {
         Ok(Launch {
             rock_id: 0,
             source_cell: cell,
-            p: V3::new(x, y, release.centre_z_m(z, body.radius_m)),
+            p: V3::new(x, y, release.start.centre_z_m(z, body.radius_m)),
             ground_z_m: z,
             start: release.start,
             v: V3::from_array(release.velocity_ms),

@@ -127,12 +127,10 @@ fn effect_intro(e: &ForestEffectSummary) -> String {
     }
     let areas: Vec<String> = (e.area_e_95_above.iter())
         .filter_map(|a| {
-            let (w, o) = (a.area_m2.with_forest?, a.area_m2.without_forest?);
+            let (w, o) = a.hectares()?;
             Some(format!(
-                "> {} kJ: {:.2} ha with, {:.2} ha without",
-                a.energy_kj,
-                w / 1e4,
-                o / 1e4
+                "> {} kJ: {w:.2} ha with, {o:.2} ha without",
+                a.energy_kj
             ))
         })
         .collect();

@@ -141,6 +141,14 @@ pub struct AreaAbove {
     pub area_m2: Difference,
 }
 
+impl AreaAbove {
+    /// The area with and without the forest, ha (`None` when either is undefined).
+    pub fn hectares(&self) -> Option<(f64, f64)> {
+        let a = self.area_m2;
+        Some((a.with_forest? / 1e4, a.without_forest? / 1e4))
+    }
+}
+
 /// The forest's effect at one screen.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct ScreenDifference {

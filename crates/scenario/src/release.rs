@@ -74,6 +74,16 @@ impl StartHeight {
         }
     }
 
+    /// The same start with a negative gap counted as 0 (a centre elevation unchanged).
+    pub fn with_gap_at_least_zero(self) -> StartHeight {
+        match self {
+            StartHeight::Gap { gap_m } => StartHeight::Gap {
+                gap_m: gap_m.max(0.0),
+            },
+            z @ StartHeight::CentreZ { .. } => z,
+        }
+    }
+
     /// The gap, m, when the start is given as one.
     pub fn gap_m(self) -> Option<f64> {
         match self {

@@ -152,32 +152,26 @@ fn rock_text(s: &Scenario) -> String {
 /// `12 source cells × 100 rocks = 1200 rocks`, `1 point × 1000 rocks = 1000 rocks`, or both
 /// parts when there are cells and points: only what the scenario releases.
 fn release_text(cells: usize, points: usize, sim: &crate::SimulationSettings) -> String {
-    let plural =
-        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    let plural = |n: u64, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     let mut parts = Vec::new();
     if cells > 0 || points == 0 {
         parts.push(format!(
             "{} × {}",
-            plural(cells, "source cell", "source cells"),
-            plural(sim.rocks_per_cell as usize, "rock", "rocks")
+            plural(cells as u64, "source cell", "source cells"),
+            plural(sim.rocks_per_cell, "rock", "rocks")
         ));
     }
     if points > 0 {
         parts.push(format!(
             "{} × {}",
-            plural(points, "point", "points"),
-            plural(sim.rocks_per_point as usize, "rock", "rocks")
+            plural(points as u64, "point", "points"),
+            plural(sim.rocks_per_point, "rock", "rocks")
         ));
     }
     let total = (cells as u64)
         .saturating_mul(sim.rocks_per_cell)
         .saturating_add((points as u64).saturating_mul(sim.rocks_per_point));
-    let total = if total == 1 {
-        "1 rock".to_string()
-    } else {
-        format!("{total} rocks")
-    };
-    format!("{} = {total}", parts.join(", "))
+    format!("{} = {}", parts.join(", "), plural(total, "rock", "rocks"))
 }
 
 /// Release points listed at most by `check`; more are counted.
