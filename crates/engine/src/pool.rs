@@ -46,6 +46,8 @@ pub(crate) fn run_rocks<S>(
     let chunk = chunk.max(1);
     let total = rocks.len();
     let next = AtomicU64::new(0);
+    let mut merged = Tally::new(layout.clone());
+    let shared = merged.shared_cells();
     let tallies = pool.broadcast(|_| {
         let mut tally = Tally::new(layout.clone());
         let mut space = scratch();
@@ -61,19 +63,25 @@ pub(crate) fn run_rocks<S>(
             for id in (start..end).filter_map(|pos| rocks.nth(pos)) {
                 rock(id, &mut tally, &mut space);
             }
+            tally.flush_cells(&shared, FLUSH_CELLS);
             if let Some(progress) = opts.progress {
                 progress(end - start);
             }
         }
+        tally.flush_cells(&shared, 1);
         tally
     });
-    let mut tallies = tallies.into_iter();
-    let mut merged = tallies.next().unwrap_or_else(|| Tally::new(layout.clone()));
+    merged.absorb_cells(shared);
     for t in tallies {
         merged.merge(t);
     }
     Ok(merged)
 }
+
+/// A worker moves its per-cell statistics into the run's shared table once they cover this
+/// many cells (a few MB), so that a run holds one table of the region's reached cells and
+/// not one per worker thread. The merge is exact, so when it happens changes no result.
+const FLUSH_CELLS: usize = 1 << 14;
 
 #[cfg(test)]
 mod tests {

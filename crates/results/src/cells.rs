@@ -1,20 +1,25 @@
 //! Per-cell statistics, allocated only for cells something happened in.
 //!
-//! A [`CellTable`] keeps a dense list of [`CellStats`] for the cells actually touched (visited,
-//! deposited in or holding a hit tree) and finds them through blocks of 64 × 64 cells created
-//! on first touch: one `u32` slot per cell of a touched block (16 KiB a block) pointing into
-//! the list, and a directory of 4 bytes per block of the grid (≈ 0.001 byte per cell). Memory
-//! thus follows the area rocks reach, not the grid. A touched cell costs 208 bytes; a visited
-//! one also carries its two histograms and its counts above the energy thresholds,
-//! (322 + 194) × 4 + 6 × 8 = 2 112 bytes on the heap, plus 4
-//! bytes per distinct source cell that reached it.
+//! A [`CellTable`] keeps a list of [`CellStats`] for the cells actually touched (visited,
+//! deposited in or holding a hit tree), in pages of [`PAGE`] entries that are never moved
+//! (so the list costs no spare capacity beyond its last page), and finds them through blocks
+//! of 16 × 16 cells created on first touch: one `u32` slot per cell of a touched block (1 KiB
+//! a block) pointing into the list, and a directory of 4 bytes per block of the grid
+//! (≈ 0.016 byte per cell). Memory thus follows the area rocks reach, not the grid.
+//!
+//! A touched cell costs [`CellStats`] (176 bytes: counters, fixed-point sums, maxima) and on
+//! the heap its two histograms packed over the bins they use ([`PackedHists`]: 9 bytes and
+//! 1–4 bytes per bin of the window), its source cells as runs ([`SourceSet`]: 8 bytes per run
+//! of neighbouring source cells) and, once a rock stopped there, hit a tree there or passed
+//! above an energy threshold there, 80 bytes of [`Extra`]. [`CellTable::heap_bytes`] counts
+//! it all.
 
 use rockfall_raster::GridGeometry;
 
 use crate::CellVisit;
-use crate::hist::{
-    ENERGY_AXIS, ENERGY_BINS, ENERGY_SCALE, LENGTH_SCALE, SHORT_AXIS, SHORT_BINS, clean, fixed,
-};
+use crate::hist::{ENERGY_AXIS, ENERGY_SCALE, LENGTH_SCALE, SHORT_AXIS, clean, fixed};
+use crate::packed::PackedHists;
+use crate::source_set::SourceSet;
 
 /// No statistics for this cell yet.
 const NONE: u32 = u32::MAX;
@@ -45,45 +50,9 @@ impl Thresholds {
     }
 }
 
-/// Bin counts of one visited cell. Counts saturate at `u32::MAX` (≈ 4.3·10⁹ visits of one
-/// cell falling into one bin), which keeps merging order-independent.
-#[derive(Debug, Clone)]
-pub(crate) struct CellHists {
-    /// Energy per visit, [`ENERGY_AXIS`].
-    pub(crate) energy: [u32; ENERGY_BINS],
-    /// Passing height per visit, [`SHORT_AXIS`].
-    pub(crate) height: [u32; SHORT_BINS],
-    /// Distinct rocks that visited the cell with more than each energy threshold
-    /// ([`Thresholds`], in the layout's order): `N_pass(x, E > e)` of the hazard
-    /// frequency (see `rockfall-hazard`). Exact counts, added on merging.
-    pub(crate) above: [u64; MAX_ENERGY_THRESHOLDS],
-}
-
-impl CellHists {
-    /// Empty histograms and counts.
-    pub(crate) fn empty() -> Box<CellHists> {
-        Box::new(CellHists {
-            energy: [0; ENERGY_BINS],
-            height: [0; SHORT_BINS],
-            above: [0; MAX_ENERGY_THRESHOLDS],
-        })
-    }
-}
-
-/// Everything known about one cell.
-#[derive(Debug, Clone)]
-pub(crate) struct CellStats {
-    /// Row-major index of the cell.
-    pub(crate) cell: usize,
-    /// `rock_id + 1` of the last rock that visited it in this tally (0: none); only for
-    /// counting distinct rocks, never output.
-    last_rock: u64,
-    /// Bit `k`: the last rock was already counted above threshold `k` here (never output).
-    above_mask: u8,
-    /// Visits (`Nr_passages`).
-    pub(crate) visits: u64,
-    /// Distinct rocks that visited it.
-    pub(crate) reached: u64,
+/// What only some cells have: deposits, tree impacts, rocks above the energy thresholds.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Extra {
     /// Rocks that stopped in it (also by a net).
     pub(crate) deposited: u64,
     /// Tree impacts in it.
@@ -92,6 +61,27 @@ pub(crate) struct CellStats {
     pub(crate) stems_broken: u64,
     /// Highest tree impact, m (meaningful when `tree_impacts > 0`).
     pub(crate) tree_height_max_m: f64,
+    /// Distinct rocks that visited the cell with more than each energy threshold
+    /// ([`Thresholds`], in the layout's order): `N_pass(x, E > e)` of the hazard
+    /// frequency (see `rockfall-hazard`). Exact counts, added on merging.
+    pub(crate) above: [u64; MAX_ENERGY_THRESHOLDS],
+}
+
+impl Extra {
+    fn merge(&mut self, o: &Extra) {
+        self.deposited += o.deposited;
+        self.tree_impacts += o.tree_impacts;
+        self.stems_broken += o.stems_broken;
+        self.tree_height_max_m = self.tree_height_max_m.max(o.tree_height_max_m);
+        for (x, y) in self.above.iter_mut().zip(o.above) {
+            *x += y;
+        }
+    }
+}
+
+/// Everything known about one cell.
+#[derive(Debug, Clone)]
+pub(crate) struct CellStats {
     /// Sum of visit energies, mJ.
     pub(crate) energy_sum: u128,
     /// Sum of passing heights, µm.
@@ -100,6 +90,15 @@ pub(crate) struct CellStats {
     pub(crate) energy_sq_sum: u128,
     /// Sum of squared passing heights, µm² (saturating).
     pub(crate) height_sq_sum: u128,
+    /// Row-major index of the cell.
+    pub(crate) cell: usize,
+    /// `rock_id + 1` of the last rock that visited it in this tally (0: none); only for
+    /// counting distinct rocks, never output.
+    last_rock: u64,
+    /// Visits (`Nr_passages`).
+    pub(crate) visits: u64,
+    /// Distinct rocks that visited it.
+    pub(crate) reached: u64,
     /// Largest energy-line angle of a visit, degrees (NaN: none measured).
     pub(crate) el_angle_max_deg: f64,
     /// Largest visit energy, J.
@@ -108,35 +107,79 @@ pub(crate) struct CellStats {
     pub(crate) height_max_m: f64,
     /// Largest speed, m/s.
     pub(crate) velocity_max_ms: f64,
-    /// Histograms, once visited.
-    pub(crate) hists: Option<Box<CellHists>>,
-    /// Sorted distinct source cells whose rocks visited it.
-    pub(crate) sources: Vec<u32>,
+    /// Histograms of the visit energies ([`ENERGY_AXIS`]) and passing heights
+    /// ([`SHORT_AXIS`]); empty until visited.
+    pub(crate) hists: PackedHists,
+    /// Distinct source cells whose rocks visited it.
+    pub(crate) sources: SourceSet,
+    /// Deposits, tree impacts and counts above thresholds, once there are any.
+    pub(crate) extra: Option<Box<Extra>>,
+    /// Bit `k`: the last rock was already counted above threshold `k` here (never output).
+    above_mask: u8,
 }
 
 impl CellStats {
     pub(crate) fn new(cell: usize) -> CellStats {
         CellStats {
-            cell,
-            last_rock: 0,
-            above_mask: 0,
-            visits: 0,
-            reached: 0,
-            deposited: 0,
-            tree_impacts: 0,
-            stems_broken: 0,
-            tree_height_max_m: 0.0,
             energy_sum: 0,
             height_sum: 0,
             energy_sq_sum: 0,
             height_sq_sum: 0,
+            cell,
+            last_rock: 0,
+            visits: 0,
+            reached: 0,
             el_angle_max_deg: f64::NAN,
             energy_max_j: 0.0,
             height_max_m: 0.0,
             velocity_max_ms: 0.0,
-            hists: None,
-            sources: Vec::new(),
+            hists: PackedHists::new(),
+            sources: SourceSet::new(),
+            extra: None,
+            above_mask: 0,
         }
+    }
+
+    /// The cell's [`Extra`], created on first use.
+    pub(crate) fn extra_mut(&mut self) -> &mut Extra {
+        self.extra.get_or_insert_with(Box::default)
+    }
+
+    fn extra_or<T>(&self, f: impl Fn(&Extra) -> T, none: T) -> T {
+        self.extra.as_deref().map_or(none, f)
+    }
+
+    /// Rocks that stopped in it (also by a net).
+    pub(crate) fn deposited(&self) -> u64 {
+        self.extra_or(|e| e.deposited, 0)
+    }
+
+    /// Tree impacts in it.
+    pub(crate) fn tree_impacts(&self) -> u64 {
+        self.extra_or(|e| e.tree_impacts, 0)
+    }
+
+    /// Stems broken in it.
+    pub(crate) fn stems_broken(&self) -> u64 {
+        self.extra_or(|e| e.stems_broken, 0)
+    }
+
+    /// Highest tree impact, m (0 without one).
+    pub(crate) fn tree_height_max_m(&self) -> f64 {
+        self.extra_or(|e| e.tree_height_max_m, 0.0)
+    }
+
+    /// Distinct rocks that visited it above the `k`-th energy threshold.
+    pub(crate) fn above(&self, k: usize) -> u64 {
+        self.extra_or(|e| e.above.get(k).copied().unwrap_or(0), 0)
+    }
+
+    /// Heap bytes of this cell's statistics (histograms, sources, extra), the histograms
+    /// counted by `hist_bytes`.
+    fn heap_bytes_with(&self, hist_bytes: fn(&PackedHists) -> usize) -> usize {
+        hist_bytes(&self.hists)
+            + self.sources.heap_bytes()
+            + self.extra.as_ref().map_or(0, |_| size_of::<Extra>())
     }
 
     /// Mean visit energy, J.
@@ -171,23 +214,17 @@ impl CellStats {
 
     /// `p`-th percentile of visit energies, J.
     pub(crate) fn energy_percentile_j(&self, p: f64) -> Option<f64> {
-        let h = self.hists.as_ref()?;
-        ENERGY_AXIS.percentile(&h.energy, p, self.energy_max_j)
+        ENERGY_AXIS.percentile_of_bins(self.hists.energy(), p, self.energy_max_j)
     }
 
     /// `p`-th percentile of passing heights, m.
     pub(crate) fn height_percentile_m(&self, p: f64) -> Option<f64> {
-        let h = self.hists.as_ref()?;
-        SHORT_AXIS.percentile(&h.height, p, self.height_max_m)
+        SHORT_AXIS.percentile_of_bins(self.hists.height(), p, self.height_max_m)
     }
 
-    fn merge(&mut self, o: CellStats) {
+    fn merge(&mut self, o: &CellStats) {
         self.visits += o.visits;
         self.reached += o.reached;
-        self.deposited += o.deposited;
-        self.tree_impacts += o.tree_impacts;
-        self.stems_broken += o.stems_broken;
-        self.tree_height_max_m = self.tree_height_max_m.max(o.tree_height_max_m);
         self.energy_sum += o.energy_sum;
         self.height_sum += o.height_sum;
         self.energy_sq_sum = self.energy_sq_sum.saturating_add(o.energy_sq_sum);
@@ -196,18 +233,11 @@ impl CellStats {
         self.energy_max_j = self.energy_max_j.max(o.energy_max_j);
         self.height_max_m = self.height_max_m.max(o.height_max_m);
         self.velocity_max_ms = self.velocity_max_ms.max(o.velocity_max_ms);
-        match (&mut self.hists, o.hists) {
-            (_, None) => {}
-            (None, theirs) => self.hists = theirs,
-            (Some(a), Some(b)) => {
-                add_saturating(&mut a.energy, &b.energy);
-                add_saturating(&mut a.height, &b.height);
-                for (x, y) in a.above.iter_mut().zip(b.above) {
-                    *x += y;
-                }
-            }
+        self.hists.merge(&o.hists);
+        if let Some(e) = &o.extra {
+            self.extra_mut().merge(e);
         }
-        self.sources = union_sorted(&self.sources, &o.sources);
+        self.sources = self.sources.union(&o.sources);
     }
 }
 
@@ -223,45 +253,20 @@ fn sample_sd(sum: u128, sq_sum: u128, n: u64, scale: f64) -> Option<f64> {
     })
 }
 
-fn add_saturating(a: &mut [u32], b: &[u32]) {
-    for (x, y) in a.iter_mut().zip(b) {
-        *x = x.saturating_add(*y);
-    }
-}
-
-/// Sorted union of two sorted, duplicate-free lists.
-fn union_sorted(a: &[u32], b: &[u32]) -> Vec<u32> {
-    let mut out = Vec::with_capacity(a.len() + b.len());
-    let (mut i, mut j) = (0, 0);
-    while i < a.len() && j < b.len() {
-        match a[i].cmp(&b[j]) {
-            std::cmp::Ordering::Less => {
-                out.push(a[i]);
-                i += 1;
-            }
-            std::cmp::Ordering::Greater => {
-                out.push(b[j]);
-                j += 1;
-            }
-            std::cmp::Ordering::Equal => {
-                out.push(a[i]);
-                i += 1;
-                j += 1;
-            }
-        }
-    }
-    out.extend_from_slice(&a[i..]);
-    out.extend_from_slice(&b[j..]);
-    out
-}
-
-/// Side of a block of cells, as a power of two: blocks of 64 × 64 cells.
-const BLOCK_SHIFT: usize = 6;
+/// Side of a block of cells, as a power of two: blocks of 16 × 16 cells (a path one cell
+/// wide crossing a block touches about 16 of its 256 cells, so the block's 1 KiB of slots
+/// costs ≈ 64 bytes per touched cell; 64 × 64 blocks cost 256).
+const BLOCK_SHIFT: usize = 4;
 /// Side of a block of cells.
 const BLOCK: usize = 1 << BLOCK_SHIFT;
 
 /// The slots of one block: row-major within the block, [`NONE`] or an index into the list.
 type Block = [u32; BLOCK * BLOCK];
+
+/// Entries per page of the list of cell statistics, as a power of two.
+const PAGE_SHIFT: usize = 12;
+/// Entries per page of the list of cell statistics (4 096 × 176 bytes = 704 KiB a page).
+pub(crate) const PAGE: usize = 1 << PAGE_SHIFT;
 
 /// Per-cell statistics of a grid, allocated block by block where something happened.
 #[derive(Debug, Clone)]
@@ -269,14 +274,18 @@ pub(crate) struct CellTable {
     /// Energies passages are counted above.
     thresholds: Thresholds,
     ncols: usize,
-    len: usize,
-    /// Blocks per block row: `ceil(ncols / 64)`.
+    /// Cells of the grid.
+    grid_len: usize,
+    /// Blocks per block row: `ceil(ncols / 16)`.
     blocks_across: usize,
     /// Per block of the grid (row-major), [`NONE`] or its index in `blocks`.
     directory: Vec<u32>,
     /// The blocks touched so far.
-    blocks: Vec<Box<Block>>,
-    cells: Vec<CellStats>,
+    blocks: Vec<Block>,
+    /// The statistics, [`PAGE`] to a page; only the last page is not full.
+    pages: Vec<Vec<CellStats>>,
+    /// Entries in all pages.
+    n_cells: usize,
 }
 
 impl CellTable {
@@ -287,18 +296,19 @@ impl CellTable {
         CellTable {
             thresholds,
             ncols: geometry.ncols,
-            len: geometry.len(),
+            grid_len: geometry.len(),
             blocks_across,
             directory: vec![NONE; blocks_across * blocks_down],
             blocks: Vec::new(),
-            cells: Vec::new(),
+            pages: Vec::new(),
+            n_cells: 0,
         }
     }
 
     /// (block number, slot within the block) of `cell`; `None` outside the grid.
     #[inline]
     fn locate(&self, cell: usize) -> Option<(usize, usize)> {
-        if cell >= self.len {
+        if cell >= self.grid_len {
             return None;
         }
         let (row, col) = (cell / self.ncols, cell % self.ncols);
@@ -307,7 +317,31 @@ impl CellTable {
         Some((block, slot))
     }
 
+    #[inline]
+    fn at(&self, i: u32) -> &CellStats {
+        let i = i as usize;
+        &self.pages[i >> PAGE_SHIFT][i & (PAGE - 1)]
+    }
+
+    #[inline]
+    fn at_mut(&mut self, i: u32) -> &mut CellStats {
+        let i = i as usize;
+        &mut self.pages[i >> PAGE_SHIFT][i & (PAGE - 1)]
+    }
+
+    /// Appends a new entry; its index, `None` when the list is full (2³² − 1 entries).
+    fn push(&mut self, cell: usize) -> Option<u32> {
+        let i = u32::try_from(self.n_cells).ok().filter(|&n| n != NONE)?;
+        if self.n_cells.is_multiple_of(PAGE) {
+            self.pages.push(Vec::with_capacity(PAGE));
+        }
+        self.pages.last_mut()?.push(CellStats::new(cell));
+        self.n_cells += 1;
+        Some(i)
+    }
+
     /// Statistics of `cell`, created on first use (with its block); `None` outside the grid.
+    #[inline]
     fn entry(&mut self, cell: usize) -> Option<&mut CellStats> {
         let (block, slot) = self.locate(cell)?;
         let mut b = self.directory[block];
@@ -316,19 +350,15 @@ impl CellTable {
                 .ok()
                 .filter(|&n| n != NONE)?;
             self.directory[block] = b;
-            self.blocks.push(Box::new([NONE; BLOCK * BLOCK]));
+            self.blocks.push([NONE; BLOCK * BLOCK]);
         }
-        let slots = &mut self.blocks[b as usize];
-        let s = slots[slot];
+        let s = self.blocks[b as usize][slot];
         if s == NONE {
-            let new = u32::try_from(self.cells.len())
-                .ok()
-                .filter(|&n| n != NONE)?;
-            slots[slot] = new;
-            self.cells.push(CellStats::new(cell));
-            self.cells.last_mut()
+            let new = self.push(cell)?;
+            self.blocks[b as usize][slot] = new;
+            Some(self.at_mut(new))
         } else {
-            self.cells.get_mut(s as usize)
+            Some(self.at_mut(s))
         }
     }
 
@@ -340,18 +370,46 @@ impl CellTable {
             return None;
         }
         let s = self.blocks[b as usize][slot];
-        (s != NONE).then(|| &self.cells[s as usize])
+        (s != NONE).then(|| self.at(s))
     }
 
-    /// Blocks of 64 × 64 cells allocated so far (for tests of the memory bound).
+    /// Blocks of 16 × 16 cells allocated so far (for tests of the memory bound).
     #[cfg(test)]
     pub(crate) fn blocks_allocated(&self) -> usize {
         self.blocks.len()
     }
 
     /// Cells with statistics, in no particular order.
-    pub(crate) fn touched(&self) -> &[CellStats] {
-        &self.cells
+    pub(crate) fn touched(&self) -> impl Iterator<Item = &CellStats> {
+        self.pages.iter().flatten()
+    }
+
+    /// Number of cells with statistics.
+    pub(crate) fn len(&self) -> usize {
+        self.n_cells
+    }
+
+    /// Bytes this table holds: the directory, the blocks, the pages (whole, spare entries of
+    /// the last included) and every cell's heap blocks (payload only: an allocator adds its
+    /// own few bytes per block).
+    pub(crate) fn heap_bytes(&self) -> usize {
+        self.bytes_with(PackedHists::heap_bytes)
+    }
+
+    /// As [`CellTable::heap_bytes`], each cell's histograms counted in their smaller form
+    /// ([`PackedHists::compact_bytes`]): the same figure for every order of merging that led
+    /// to the same statistics, so fit for `summary.json`, which merged runs reproduce.
+    pub(crate) fn compact_bytes(&self) -> usize {
+        self.bytes_with(PackedHists::compact_bytes)
+    }
+
+    fn bytes_with(&self, hist_bytes: fn(&PackedHists) -> usize) -> usize {
+        self.directory.len() * 4
+            + self.blocks.len() * size_of::<Block>()
+            + self.pages.len() * PAGE * size_of::<CellStats>()
+            + (self.touched())
+                .map(|c| c.heap_bytes_with(hist_bytes))
+                .sum::<usize>()
     }
 
     /// A visit of rock `rock_key` (= rock id + 1) released from `source` to `cell`.
@@ -376,9 +434,7 @@ impl CellTable {
             c.last_rock = rock_key;
             c.above_mask = 0;
             c.reached += 1;
-            if let Err(pos) = c.sources.binary_search(&source) {
-                c.sources.insert(pos, source);
-            }
+            c.sources.insert(source);
         }
         let (fe, fh) = (
             u128::from(fixed(e, ENERGY_SCALE)),
@@ -394,10 +450,7 @@ impl CellTable {
         c.energy_max_j = c.energy_max_j.max(e);
         c.height_max_m = c.height_max_m.max(h);
         c.velocity_max_ms = c.velocity_max_ms.max(s);
-        let hists = c.hists.get_or_insert_with(CellHists::empty);
-        let (be, bh) = (ENERGY_AXIS.bin(e), SHORT_AXIS.bin(h));
-        hists.energy[be] = hists.energy[be].saturating_add(1);
-        hists.height[bh] = hists.height[bh].saturating_add(1);
+        c.hists.add(ENERGY_AXIS.bin(e), SHORT_AXIS.bin(h));
         // ascending thresholds: stop at the first one the visit does not exceed
         for k in 0..thresholds.n {
             if e <= thresholds.j[k] {
@@ -405,7 +458,7 @@ impl CellTable {
             }
             if c.above_mask & (1 << k) == 0 {
                 c.above_mask |= 1 << k;
-                hists.above[k] += 1;
+                c.extra_mut().above[k] += 1;
             }
         }
     }
@@ -418,20 +471,21 @@ impl CellTable {
     /// A tree impact at `height_m` (m above the ground) in `cell`.
     pub(crate) fn tree_impact(&mut self, cell: usize, height_m: f64, broken: bool) {
         let Some(c) = self.entry(cell) else { return };
-        c.tree_impacts += 1;
-        c.stems_broken += u64::from(broken);
-        c.tree_height_max_m = c.tree_height_max_m.max(clean(height_m));
+        let x = c.extra_mut();
+        x.tree_impacts += 1;
+        x.stems_broken += u64::from(broken);
+        x.tree_height_max_m = x.tree_height_max_m.max(clean(height_m));
     }
 
     /// A rock came to rest in `cell`.
     pub(crate) fn deposit(&mut self, cell: usize) {
         if let Some(c) = self.entry(cell) {
-            c.deposited += 1;
+            c.extra_mut().deposited += 1;
         }
     }
 
     /// Adds the statistics of `cells` (of this grid), one entry per cell at most.
-    pub(crate) fn absorb(&mut self, cells: Vec<CellStats>) {
+    pub(crate) fn absorb<'a>(&mut self, cells: impl IntoIterator<Item = &'a CellStats>) {
         for stats in cells {
             if let Some(c) = self.entry(stats.cell) {
                 c.merge(stats);
@@ -441,20 +495,25 @@ impl CellTable {
 
     /// Adds every statistic of `other` (a table of the same grid).
     pub(crate) fn merge(&mut self, other: CellTable) {
-        self.absorb(other.cells);
+        self.absorb(other.touched());
+    }
+
+    /// Adds every statistic of this table to `into` (a table of the same grid) and empties
+    /// this one, keeping its directory (and so its size), freeing its cells and blocks.
+    pub(crate) fn drain_into(&mut self, into: &mut CellTable) {
+        into.absorb(self.touched());
+        for d in &mut self.directory {
+            *d = NONE;
+        }
+        self.blocks.clear();
+        self.pages.clear();
+        self.n_cells = 0;
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn union_of_sorted_lists() {
-        assert_eq!(union_sorted(&[1, 3, 5], &[2, 3, 9]), vec![1, 2, 3, 5, 9]);
-        assert_eq!(union_sorted(&[], &[4]), vec![4]);
-        assert_eq!(union_sorted(&[4], &[]), vec![4]);
-    }
 
     #[test]
     fn visits_outside_the_grid_are_ignored_and_distinct_rocks_counted_once() {
@@ -474,12 +533,13 @@ mod tests {
             passing_height_m: 0.5,
         };
         t.visit(9, 1, 0, &v, None);
-        assert!(t.touched().is_empty());
+        assert!(t.touched().next().is_none());
         t.visit(2, 1, 7, &v, None);
         t.visit(2, 1, 7, &v, None);
         t.visit(2, 2, 3, &v, None);
         let c = t.get(2).unwrap();
-        assert_eq!((c.visits, c.reached, c.sources.clone()), (3, 2, vec![3, 7]));
+        assert_eq!((c.visits, c.reached), (3, 2));
+        assert_eq!(c.sources.iter().collect::<Vec<_>>(), vec![3, 7]);
         assert_eq!(c.energy_mean_j(), Some(10.0));
         assert!(t.get(1).is_none());
     }
@@ -507,7 +567,10 @@ mod tests {
         // rock 2: below, then above 300 kJ in the same cell (its largest visit counts)
         a.visit(0, 2, 0, &visit(10.0), None);
         a.visit(0, 2, 0, &visit(301.0), None);
-        let above = |t: &CellTable, cell: usize| t.get(cell).unwrap().hists.as_ref().unwrap().above;
+        let above = |t: &CellTable, cell: usize| {
+            let c = t.get(cell).unwrap();
+            std::array::from_fn::<u64, MAX_ENERGY_THRESHOLDS, _>(|k| c.above(k))
+        };
         assert_eq!(above(&a, 0)[..3], [2, 2, 1]);
         assert_eq!(above(&a, 1)[..3], [0, 0, 0]);
         let mut b = CellTable::new(&g, th);
@@ -526,8 +589,56 @@ mod tests {
     }
 
     #[test]
+    fn a_reached_cell_costs_well_under_half_a_kilobyte() {
+        // 3 000 rocks from 60 source cells along a cliff row, each wandering 400 rows down a
+        // 1 000 × 1 000 grid, energies over three decades, heights over four: cells visited
+        // from once to thousands of times, as on a slope below a cliff.
+        let g = GridGeometry {
+            ncols: 1_000,
+            nrows: 1_000,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 2.0,
+        };
+        let mut t = CellTable::new(&g, Thresholds::of_kj(&[30.0, 300.0]));
+        let mut state = 3u64;
+        let mut draw = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for rock in 0..3_000u64 {
+            let source = 400 + (rock % 60) as usize;
+            let mut col = source as f64;
+            for row in 1..400 {
+                col = (col + 2.0 * draw() - 1.0).clamp(0.0, 999.0);
+                let v = CellVisit {
+                    energy_j: 10f64.powf(3.0 + 3.0 * draw()),
+                    velocity_ms: 10.0 * draw(),
+                    passing_height_m: 10f64.powf(-2.0 + 4.0 * draw()),
+                };
+                t.visit(
+                    g.index(row, col as usize),
+                    rock + 1,
+                    source as u32,
+                    &v,
+                    None,
+                );
+            }
+            t.deposit(g.index(399, col as usize));
+        }
+        let per_cell = t.heap_bytes() as f64 / t.len() as f64;
+        assert!(t.len() > 20_000, "{}", t.len());
+        // 403 when written: 176 inline, 96 of histograms, 36 of sources, 76 of extra (most cells
+        // see a rock above 30 kJ), the rest blocks and the last page's spare entries
+        assert!(per_cell < 420.0, "{per_cell} bytes per reached cell");
+        assert_eq!(size_of::<CellStats>(), 176);
+    }
+
+    #[test]
     fn a_huge_grid_allocates_blocks_only_where_cells_are_touched() {
-        // 10⁸ cells: a slot per cell would be 400 MB; the directory is 2 500 × 2 500 × 4 B.
+        // 10⁸ cells: a slot per cell would be 400 MB; the directory is 625 × 625 × 4 B.
         let g = GridGeometry {
             ncols: 10_000,
             nrows: 10_000,
@@ -536,32 +647,33 @@ mod tests {
             cell_size_m: 2.0,
         };
         let mut t = CellTable::new(&g, Thresholds::of_kj(&[]));
-        assert_eq!((t.directory.len(), t.blocks_allocated()), (157 * 157, 0));
+        assert_eq!((t.directory.len(), t.blocks_allocated()), (625 * 625, 0));
         let v = CellVisit {
             energy_j: 1.0,
             velocity_ms: 1.0,
             passing_height_m: 0.1,
         };
-        // a path down one column crosses 200 rows: 4 blocks (rows 0–63, …, 192–255)
+        // a path down one column crosses 200 rows: 13 blocks (rows 0–15, …, 192–207)
         for row in 0..200 {
             t.visit(g.index(row, 5_000), 1, 0, &v, None);
         }
-        assert_eq!(t.blocks_allocated(), 4);
-        // the same block again, the last cell of the grid, a deposit and a tree
+        assert_eq!(t.blocks_allocated(), 13);
+        // a block beside it, the last cell of the grid (a deposit) and a tree: 3 more
         t.visit(g.index(63, 5_055), 2, 0, &v, None);
         t.deposit(g.len() - 1);
         t.tree_impact(g.index(9_999, 0), 2.0, false);
-        assert_eq!(t.blocks_allocated(), 6);
-        assert_eq!(t.touched().len(), 203);
+        assert_eq!(t.blocks_allocated(), 16);
+        assert_eq!(t.len(), 203);
+        assert_eq!(t.touched().count(), 203);
         assert_eq!(t.get(g.index(199, 5_000)).map(|c| c.visits), Some(1));
         assert!(t.get(g.index(200, 5_000)).is_none());
         assert!(t.get(g.index(199, 5_001)).is_none());
-        assert_eq!(t.get(g.len() - 1).map(|c| c.deposited), Some(1));
+        assert_eq!(t.get(g.len() - 1).map(|c| c.deposited()), Some(1));
         assert!(t.get(g.len()).is_none());
         // merging allocates the other table's blocks in this one, no others
         let mut merged = CellTable::new(&g, Thresholds::of_kj(&[]));
         merged.merge(t.clone());
-        assert_eq!(merged.blocks_allocated(), 6);
+        assert_eq!(merged.blocks_allocated(), 16);
         assert_eq!(merged.get(g.index(63, 5_055)).map(|c| c.reached), Some(1));
     }
 }

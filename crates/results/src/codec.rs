@@ -34,6 +34,22 @@ impl Enc {
     }
 
     /// A histogram as its non-empty bins: their number, then (bin, count) pairs.
+    /// The non-zero `(bin, count)` pairs of `bins`, as [`Enc::sparse`] writes dense counts.
+    pub(crate) fn sparse_bins<C: Copy + Into<u64>>(
+        &mut self,
+        bins: impl Iterator<Item = (usize, C)> + Clone,
+    ) {
+        let nonzero = bins.clone().filter(|&(_, c)| c.into() > 0).count();
+        self.len(nonzero);
+        for (i, c) in bins {
+            let c: u64 = c.into();
+            if c > 0 {
+                self.u32(i as u32);
+                self.u64(c);
+            }
+        }
+    }
+
     pub(crate) fn sparse<C: Copy + Into<u64>>(&mut self, counts: &[C]) {
         let nonzero = counts.iter().filter(|&&c| c.into() > 0).count();
         self.len(nonzero);
@@ -142,6 +158,24 @@ impl<'a> Dec<'a> {
             }
         }
         Ok(())
+    }
+
+    /// Sparse `(bin, count)` pairs (as [`Enc::sparse_bins`] wrote them) of a histogram of
+    /// `bins` bins with `u32` counts; an error for a bin past it, a count of 0 or above
+    /// `u32::MAX`, or bins not ascending.
+    pub(crate) fn sparse_bins(&mut self, bins: usize) -> Result<Vec<(usize, u32)>, DecodeError> {
+        let n = self.len(12)?;
+        let mut out: Vec<(usize, u32)> = Vec::with_capacity(n);
+        for _ in 0..n {
+            let at = self.pos;
+            let (i, c) = (self.u32()? as usize, self.u64()?);
+            let ascending = out.last().is_none_or(|&(last, _)| last < i);
+            match u32::try_from(c) {
+                Ok(c) if i < bins && c > 0 && ascending => out.push((i, c)),
+                _ => return Err(self.corrupt(at, format!("bin {i} (count {c}) does not fit"))),
+            }
+        }
+        Ok(out)
     }
 
     /// Offset of the next value.

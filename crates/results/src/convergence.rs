@@ -37,7 +37,9 @@ impl MapSnapshot {
     /// The reach probability and E_95 of every cell the rocks of `tally` reached.
     pub fn of(tally: &Tally) -> MapSnapshot {
         let rocks = tally.rocks();
-        let mut cells: Vec<(usize, f64, Option<f64>)> = (tally.cells.touched().iter())
+        let mut cells: Vec<(usize, f64, Option<f64>)> = tally
+            .cells
+            .touched()
             .filter(|c| c.visits > 0 && rocks > 0)
             .map(|c| {
                 let reach = c.reached as f64 / rocks as f64 * 100.0;

@@ -94,13 +94,24 @@ impl LogAxis {
         p: f64,
         max: f64,
     ) -> Option<f64> {
-        let total: u64 = counts.iter().map(|&c| c.into()).sum();
+        self.percentile_of_bins(counts.iter().copied().enumerate(), p, max)
+    }
+
+    /// As [`LogAxis::percentile`], of the `(bin, count)` pairs of `bins` (ascending bins;
+    /// bins left out count 0): the same value, bit for bit, as of the dense counts.
+    pub(crate) fn percentile_of_bins<C: Copy + Into<u64>>(
+        &self,
+        bins: impl Iterator<Item = (usize, C)> + Clone,
+        p: f64,
+        max: f64,
+    ) -> Option<f64> {
+        let total: u64 = bins.clone().map(|(_, c)| c.into()).sum();
         if total == 0 || p.is_nan() {
             return None;
         }
         let rank = p.clamp(0.0, 100.0) / 100.0 * total as f64;
         let mut before = 0u64;
-        for (i, &c) in counts.iter().enumerate() {
+        for (i, c) in bins {
             let c: u64 = c.into();
             if c == 0 {
                 continue;

@@ -31,12 +31,16 @@
 //!
 //! # Memory
 //!
-//! Per tally: 16 KiB per block of 64 × 64 cells something happened in (and ≈ 0.001 byte per
-//! grid cell for the directory of blocks), plus for every cell something happened in 208 bytes of
-//! counters (in a list that may hold up to as much again in spare capacity) and, once
-//! visited, its energy and passing-height histograms and its counts of rocks above the
-//! energy thresholds ((322 + 194) × 4 + 6 × 8 = 2 112 bytes, one heap block) and 4 bytes per distinct source cell that reached it: ≈ 2.2–2.4 kB per
-//! visited cell, whatever the number of rocks. Per-screen and per-rock statistics are a few
+//! Per tally: 1 KiB per block of 16 × 16 cells something happened in (and ≈ 0.016 byte per
+//! grid cell for the directory of blocks), plus for every cell something happened in 176 bytes
+//! of counters, sums and maxima (in pages of 4 096, never moved) and on the heap its energy
+//! and passing-height histograms packed (3 bytes per visit for a cell visited a few times,
+//! else the window of bins it uses at 1–4 bytes a count), its source cells as runs of
+//! neighbours (8 bytes a run) and, where rocks stopped, hit trees or passed above an energy
+//! threshold, 80 bytes more: 0.35 kB per reached cell on vaujany-site2, whatever the number
+//! of rocks (`cell_statistics_bytes_per_reached_cell` of `summary.json`). A run's workers
+//! move their cells into one shared table every 16 384 cells ([`Tally::flush_cells`]), so
+//! the threads do not multiply it. Per-screen and per-rock statistics are a few
 //! kB in all; the speed profile ([`Results::speed_profile`]) 4 kB per distance bin of one
 //! cell reached (at most 2000 bins, 8 MB). Only the recorded trajectories (rocks with `rock_id < Layout::trajectories`)
 //! and, when [`Layout::rock_ends`] is set, the per-rock records (one [`RockRecord`], 120
@@ -49,11 +53,13 @@ mod distribution;
 pub mod fair;
 mod forest_effect;
 mod hist;
+mod packed;
 mod parameters;
 mod persist;
 mod profile;
 mod results;
 mod screens;
+mod source_set;
 mod summary;
 mod tally;
 mod tally_body;
@@ -77,7 +83,7 @@ pub use profile::ProfileBin;
 pub use results::{RasterCells, Results, RunInfo, rocks_above_name};
 pub use screens::ScreenSet;
 pub use summary::{MeanP95Max, MotionShares, Outcomes, Runout, ScreenSummary, Summary, TimeStats};
-pub use tally::Tally;
+pub use tally::{SharedCells, Tally};
 pub use write::{CROSSINGS_HEADER, ROCKS_HEADER, ResultsError, TRAJECTORY_HEADER, write_json};
 
 use rockfall_raster::{Crs, Grid, GridGeometry};

@@ -252,7 +252,10 @@ impl Results {
     pub(crate) fn sample_type(&self, kind: Kind) -> SampleType {
         // cells nothing happened in count 0: only the touched cells can exceed the range
         let rocks = self.rocks();
-        let too_big = (self.tally.cells.touched().iter())
+        let too_big = self
+            .tally
+            .cells
+            .touched()
             .filter_map(|c| self.cell_value(kind, rocks, Some(c)))
             .any(|v| v > f64::from(i32::MAX));
         match (kind.is_count(), too_big) {
@@ -272,7 +275,7 @@ impl Results {
                 (Some(c), 1..) => c.reached as f64 / rocks as f64 * 100.0,
                 _ => 0.0,
             }),
-            Kind::Deposited => Some(c.map_or(0, |c| c.deposited) as f64),
+            Kind::Deposited => Some(c.map_or(0, |c| c.deposited()) as f64),
             Kind::Sources => Some(c.map_or(0, |c| c.sources.len()) as f64),
             Kind::EnergyMean => visited?.energy_mean_j().map(|e| e / 1e3),
             Kind::EnergyPercentile(p) => visited?.energy_percentile_j(p).map(|e| e / 1e3),
@@ -288,16 +291,12 @@ impl Results {
             }
             Kind::EnergyLineAngle => Some(visited?.el_angle_max_deg).filter(|a| !a.is_nan()),
             Kind::VelocityMax => visited.map(|c| c.velocity_max_ms),
-            Kind::TreeImpacts => Some(c.map_or(0, |c| c.tree_impacts) as f64),
+            Kind::TreeImpacts => Some(c.map_or(0, |c| c.tree_impacts()) as f64),
             Kind::TreeHeightMax => c
-                .filter(|c| c.tree_impacts > 0)
-                .map(|c| c.tree_height_max_m),
-            Kind::StemsBroken => Some(c.map_or(0, |c| c.stems_broken) as f64),
-            Kind::RocksAbove(k) => Some(
-                visited
-                    .and_then(|c| c.hists.as_ref())
-                    .map_or(0, |h| h.above[k]) as f64,
-            ),
+                .filter(|c| c.tree_impacts() > 0)
+                .map(|c| c.tree_height_max_m()),
+            Kind::StemsBroken => Some(c.map_or(0, |c| c.stems_broken()) as f64),
+            Kind::RocksAbove(k) => Some(visited.map_or(0, |c| c.above(k)) as f64),
         }
     }
 

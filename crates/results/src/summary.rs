@@ -86,6 +86,15 @@ pub struct Summary {
     pub motion: Option<MotionShares>,
     /// Cells visited by at least one rock.
     pub cells_reached: u64,
+    /// Bytes of the run's per-cell statistics (counters, histograms, source cells and the
+    /// table that finds them) once merged, each cell's histograms in their smaller form (the
+    /// same whatever the threads, shares and merges); 0 in summaries written before it was
+    /// added.
+    #[serde(default)]
+    pub cell_statistics_bytes: u64,
+    /// `cell_statistics_bytes` per reached cell (`None` when no cell was reached).
+    #[serde(default)]
+    pub cell_statistics_bytes_per_reached_cell: Option<f64>,
     /// Rows of `trajectories.csv`.
     pub trajectory_rows: u64,
     /// The evaluation screens, in scenario order.
@@ -255,9 +264,8 @@ impl Results {
             .collect();
         let info = &self.info;
         let per_s = (info.wall_time_s > 0.0).then(|| rocks as f64 / info.wall_time_s);
-        let cells_reached = (self.tally.cells.touched().iter())
-            .filter(|c| c.visits > 0)
-            .count();
+        let cell_bytes = self.tally.cells.compact_bytes();
+        let cells_reached = self.tally.cells.touched().filter(|c| c.visits > 0).count();
         Summary {
             engine: info.engine.clone(),
             scenario: info.scenario.clone(),
@@ -300,6 +308,9 @@ impl Results {
             events_per_rock: per_rock(r.events),
             motion: MotionShares::of(&r.motion_us),
             cells_reached: cells_reached as u64,
+            cell_statistics_bytes: cell_bytes as u64,
+            cell_statistics_bytes_per_reached_cell: (cells_reached > 0)
+                .then(|| cell_bytes as f64 / cells_reached as f64),
             trajectory_rows: self.rows.len() as u64,
             screens,
             percentile_relative_error: crate::PERCENTILE_RELATIVE_ERROR,

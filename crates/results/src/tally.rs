@@ -1,6 +1,6 @@
 //! The per-worker accumulator.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use crate::cells::CellTable;
 use crate::hist::{LENGTH_SCALE, LONG_AXIS, SHORT_AXIS, Stat};
@@ -142,8 +142,8 @@ fn energy_line_angle_deg(
 /// entirely by one tally. When all rocks are done, [`Tally::merge`] the tallies in any order:
 /// the result is bit-identical.
 ///
-/// Memory: per touched cell the statistics described in the crate documentation (≈ 2.2–2.4 kB
-/// per visited cell) and 16 KiB per touched block of 64 × 64 cells, ≈ 0.001 byte per grid
+/// Memory: per touched cell the statistics described in the crate documentation (≈ 0.35–0.4 kB
+/// per visited cell) and 1 KiB per touched block of 16 × 16 cells, ≈ 0.016 byte per grid
 /// cell, plus the recorded rows; nothing per rock unless [`Layout::rock_ends`], which keeps
 /// one [`RockRecord`] per rock.
 #[derive(Debug, Clone)]
@@ -335,4 +335,50 @@ impl Tally {
     pub fn rocks(&self) -> u64 {
         self.rock.rocks()
     }
+
+    /// An empty table of per-cell statistics that the workers of one run share (see
+    /// [`Tally::flush_cells`]).
+    pub fn shared_cells(&self) -> SharedCells {
+        SharedCells(Mutex::new(CellTable::new(
+            &self.layout.geometry,
+            self.cells.thresholds(),
+        )))
+    }
+
+    /// Moves this tally's per-cell statistics into `shared` (exactly: they add up as
+    /// [`Tally::merge`] adds them) when they cover at least `min_cells` cells; call it between
+    /// rocks. Workers that flush every so often hold only the cells of their last rocks, so a
+    /// run's per-cell memory is one table, not one per worker thread.
+    pub fn flush_cells(&mut self, shared: &SharedCells, min_cells: usize) {
+        debug_assert!(self.current.is_none(), "flush_cells during a rock");
+        if self.cells.len() >= min_cells.max(1) {
+            let mut table = shared.0.lock().unwrap_or_else(|p| p.into_inner());
+            self.cells.drain_into(&mut table);
+        }
+    }
+
+    /// Adds the per-cell statistics gathered in `shared` to this tally's.
+    pub fn absorb_cells(&mut self, shared: SharedCells) {
+        let table = shared.0.into_inner().unwrap_or_else(|p| p.into_inner());
+        if self.cells.len() == 0 {
+            // the shared table is the whole: take it rather than copy it
+            let mut table = table;
+            std::mem::swap(&mut self.cells, &mut table);
+            self.cells.merge(table);
+        } else {
+            self.cells.merge(table);
+        }
+    }
+
+    /// Bytes held by the per-cell statistics (see the crate's memory notes) and the number
+    /// of cells they cover.
+    pub fn cell_memory(&self) -> (usize, usize) {
+        (self.cells.heap_bytes(), self.cells.len())
+    }
 }
+
+/// Per-cell statistics shared by the workers of one run: each worker moves its own into it
+/// every so often ([`Tally::flush_cells`]) and the run's tally takes them at the end
+/// ([`Tally::absorb_cells`]). Exact in any order of flushing.
+#[derive(Debug)]
+pub struct SharedCells(Mutex<CellTable>);

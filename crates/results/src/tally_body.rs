@@ -2,10 +2,13 @@
 //! profile, per-cell statistics sorted by cell, trajectory rows, rock records and screen
 //! crossings, little-endian, floats as their bit patterns, histograms as their non-empty bins.
 
-use crate::cells::{CellHists, CellStats};
+use crate::cells::{CellStats, Extra};
 use crate::codec::{Dec, DecodeError, Enc};
 use crate::hist::Stat;
+use crate::hist::{ENERGY_BINS, SHORT_BINS};
+use crate::packed::PackedHists;
 use crate::profile::SpeedHistogram;
+use crate::source_set::SourceSet;
 use crate::{
     CrossingRecord, Event, Motion, Outcome, RockEnd, RockRecord, ScreenCrossing, Tally,
     TrajectoryRow,
@@ -60,7 +63,7 @@ pub(crate) fn body(e: &mut Enc, t: &Tally) {
         e.sparse(&b.counts);
         e.f64(b.max_ms);
     }
-    let mut cells: Vec<&CellStats> = t.cells.touched().iter().collect();
+    let mut cells: Vec<&CellStats> = t.cells.touched().collect();
     cells.sort_unstable_by_key(|c| c.cell);
     e.len(cells.len());
     let thresholds = t.cells.thresholds().len();
@@ -187,15 +190,13 @@ pub(crate) fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeErro
     let n = d.len(8)?;
     let len = t.layout().geometry.len();
     let thresholds = t.cells.thresholds().len();
-    let mut cells = Vec::with_capacity(n);
     for _ in 0..n {
         let c = read_cell(d, thresholds)?;
         if c.cell >= len {
             return Err(d.corrupt(d.pos(), format!("cell {} outside the grid", c.cell)));
         }
-        cells.push(c);
+        t.cells.absorb([&c]);
     }
-    t.cells.absorb(cells);
     let n = d.len(16)?;
     t.rows.reserve(n);
     for _ in 0..n {
@@ -221,13 +222,13 @@ fn cell(e: &mut Enc, c: &CellStats, thresholds: usize) {
     for n in [
         c.visits,
         c.reached,
-        c.deposited,
-        c.tree_impacts,
-        c.stems_broken,
+        c.deposited(),
+        c.tree_impacts(),
+        c.stems_broken(),
     ] {
         e.u64(n);
     }
-    e.f64(c.tree_height_max_m);
+    e.f64(c.tree_height_max_m());
     e.u128(c.energy_sum);
     e.u128(c.height_sum);
     e.u128(c.energy_sq_sum);
@@ -240,19 +241,18 @@ fn cell(e: &mut Enc, c: &CellStats, thresholds: usize) {
     ] {
         e.f64(v);
     }
-    match &c.hists {
-        None => e.u8(0),
-        Some(h) => {
-            e.u8(1);
-            e.sparse(&h.energy);
-            e.sparse(&h.height);
-            for &n in &h.above[..thresholds] {
-                e.u64(n);
-            }
+    if c.hists.is_empty() {
+        e.u8(0);
+    } else {
+        e.u8(1);
+        e.sparse_bins(c.hists.energy());
+        e.sparse_bins(c.hists.height());
+        for k in 0..thresholds {
+            e.u64(c.above(k));
         }
     }
-    e.len(c.sources.len());
-    for &s in &c.sources {
+    e.len(usize::try_from(c.sources.len()).unwrap_or(usize::MAX));
+    for s in c.sources.iter() {
         e.u32(s);
     }
 }
@@ -261,16 +261,15 @@ fn read_cell(d: &mut Dec<'_>, thresholds: usize) -> Result<CellStats, DecodeErro
     let at = d.pos();
     let cell = usize::try_from(d.u64()?).map_err(|_| d.corrupt(at, "cell index".into()))?;
     let mut c = CellStats::new(cell);
-    for n in [
-        &mut c.visits,
-        &mut c.reached,
-        &mut c.deposited,
-        &mut c.tree_impacts,
-        &mut c.stems_broken,
-    ] {
-        *n = d.u64()?;
-    }
-    c.tree_height_max_m = d.f64()?;
+    c.visits = d.u64()?;
+    c.reached = d.u64()?;
+    let mut extra = Extra {
+        deposited: d.u64()?,
+        tree_impacts: d.u64()?,
+        stems_broken: d.u64()?,
+        tree_height_max_m: d.f64()?,
+        ..Extra::default()
+    };
     c.energy_sum = d.u128()?;
     c.height_sum = d.u128()?;
     c.energy_sq_sum = d.u128()?;
@@ -284,20 +283,20 @@ fn read_cell(d: &mut Dec<'_>, thresholds: usize) -> Result<CellStats, DecodeErro
         *v = d.f64()?;
     }
     if d.u8()? == 1 {
-        let mut h = CellHists::empty();
-        let narrow = |c: u64| u32::try_from(c).ok();
-        d.sparse_into(&mut h.energy, narrow)?;
-        d.sparse_into(&mut h.height, narrow)?;
-        for n in &mut h.above[..thresholds] {
+        let energy = d.sparse_bins(ENERGY_BINS)?;
+        let height = d.sparse_bins(SHORT_BINS)?;
+        c.hists = PackedHists::from_bins(&energy, &height);
+        for n in &mut extra.above[..thresholds] {
             *n = d.u64()?;
         }
-        c.hists = Some(h);
+    }
+    if extra.deposited > 0 || extra.tree_impacts > 0 || extra.above.iter().any(|&n| n > 0) {
+        c.extra = Some(Box::new(extra));
     }
     let n = d.len(4)?;
-    c.sources = (0..n).map(|_| d.u32()).collect::<Result<_, _>>()?;
-    if !c.sources.windows(2).all(|w| w[0] < w[1]) {
-        return Err(d.corrupt(at, format!("sources of cell {cell} not ascending")));
-    }
+    let sources = (0..n).map(|_| d.u32()).collect::<Result<Vec<_>, _>>()?;
+    c.sources = SourceSet::from_sorted(sources)
+        .ok_or_else(|| d.corrupt(at, format!("sources of cell {cell} not ascending")))?;
     Ok(c)
 }
 

@@ -66,6 +66,41 @@ fn merge_order_does_not_change_a_bit() {
 }
 
 #[test]
+fn flushing_cells_into_a_shared_table_at_any_moment_changes_no_bit() {
+    let mut one = Tally::new(layout());
+    for i in 0..ROCKS {
+        simulate_rock(&mut one, i);
+    }
+    let single = results(one, 1, 3.0);
+    // Four workers flushing their cells into one shared table, each at its own rhythm (after
+    // every rock, every 7th, once above 30 cells, never until the end), then the run's tally
+    // takes the table and the workers' other statistics.
+    let mut run = Tally::new(layout());
+    let shared = run.shared_cells();
+    let mut workers = [0, 1, 2, 3].map(|_| Tally::new(layout()));
+    for i in 0..ROCKS {
+        let k = ((i / 5) % 4) as usize;
+        simulate_rock(&mut workers[k], i);
+        match k {
+            0 => workers[k].flush_cells(&shared, 1),
+            1 if i % 7 == 0 => workers[k].flush_cells(&shared, 1),
+            2 => workers[k].flush_cells(&shared, 30),
+            _ => {}
+        }
+    }
+    assert!(workers[0].cell_memory().1 == 0 && workers[3].cell_memory().1 > 0);
+    for w in &mut workers {
+        w.flush_cells(&shared, 1);
+        assert_eq!(w.cell_memory(), Tally::new(layout()).cell_memory());
+    }
+    run.absorb_cells(shared);
+    for w in workers {
+        run.merge(w);
+    }
+    assert_identical(&results(run, 4, 3.0), &single);
+}
+
+#[test]
 fn shared_types_can_cross_threads() {
     fn send<T: Send>() {}
     fn send_sync<T: Send + Sync>() {}

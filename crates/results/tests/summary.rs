@@ -130,12 +130,14 @@ const OLD_RIGID_PARAMETERS: [&str; 21] = [
 /// Keys added since: the engine's events (flight arcs and rolling steps, or time steps), and
 /// the shares of the modes of motion (rigid engine; `null` for the lumped one), the rocks
 /// the ground held where they were released.
-const NEW_KEYS: [&str; 5] = [
+const NEW_KEYS: [&str; 7] = [
     "events",
     "events_per_rock",
     "motion",
     "held_at_release",
     "held_at_release_fraction",
+    "cell_statistics_bytes",
+    "cell_statistics_bytes_per_reached_cell",
 ];
 
 /// What the lumped parameters gained: the scale of the ground material's rolling friction.
