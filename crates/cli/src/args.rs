@@ -135,8 +135,12 @@ pub enum Command {
     },
     /// Write a built-in synthetic site as input files: rasters (ESRI ASCII grids with .prj),
     /// tree list, scenario.toml, and the Rockyfor3D file set where the site fits it.
+    /// `alpine-region` is a procedural mountain region of any size (--cells) written as tiled
+    /// Cloud-Optimised GeoTIFFs (DEM, source cells where the slope is ≥ 45°, soil type,
+    /// roughness, forest stands) with its scenario.toml: the regional test site.
     Site {
-        /// Site name (see --list): vaujany-site1, vaujany-site2, forest-slope-40, leine-ramp-40.
+        /// Site name (see --list): vaujany-site1, vaujany-site2, forest-slope-40, leine-ramp-40,
+        /// alpine-region.
         #[arg(required_unless_present = "list")]
         name: Option<String>,
         /// Output folder (created if needed).
@@ -145,6 +149,16 @@ pub enum Command {
         /// List the built-in sites.
         #[arg(long)]
         list: bool,
+        /// alpine-region: cells of the DEM, 10 000 to 4·10⁹, rounded to a square (default
+        /// 10⁶). Writing holds 4 bytes per cell; 10⁹ cells take some minutes.
+        #[arg(long)]
+        cells: Option<u64>,
+        /// alpine-region: cell size, m, 1 to 25 (default 5).
+        #[arg(long)]
+        cell_size_m: Option<f64>,
+        /// alpine-region: seed of the relief (default 1).
+        #[arg(long)]
+        seed: Option<u64>,
     },
     /// The single-tree virtual impact experiment of seed 001 §2 (rigid engine): rocks of one
     /// shape (0.02 m³, 2700 kg/m³) released 5 m high from a 1 m² lattice in front of one rigid

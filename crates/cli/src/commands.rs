@@ -10,7 +10,7 @@ use crate::validate;
 use anyhow::anyhow;
 use rockfall_scenario::{Engine, Overview};
 use rockfall_sim::{Overrides, RunRecord, Simulation};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Runs a subcommand.
 pub fn dispatch(command: Command) -> Result<(), Failure> {
@@ -20,8 +20,22 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
     match command {
         Command::Check { input } => check(&input),
         Command::Schema { markdown, out } => crate::schema::schema(markdown, out.as_deref()),
-        Command::Site { name, out, list } => match (name, out) {
-            (Some(name), Some(out)) if !list => site(&name, &out),
+        Command::Site {
+            name,
+            out,
+            list,
+            cells,
+            cell_size_m,
+            seed,
+        } => match (name, out) {
+            (Some(name), Some(out)) if !list => {
+                let region = RegionOptions {
+                    cells,
+                    cell_size_m,
+                    seed,
+                };
+                site(&name, &out, region)
+            }
             _ => {
                 list_sites();
                 Ok(())
@@ -295,7 +309,14 @@ fn check(input: &Path) -> Result<(), Failure> {
     Ok(())
 }
 
-fn site(name: &str, out: &Path) -> Result<(), Failure> {
+/// The options of `rockfall site` that only `alpine-region` takes.
+struct RegionOptions {
+    cells: Option<u64>,
+    cell_size_m: Option<f64>,
+    seed: Option<u64>,
+}
+
+fn site(name: &str, out: &Path, region: RegionOptions) -> Result<(), Failure> {
     // Never mix a site with files of another: stale rasters or tree files would be read back.
     if out.exists() {
         let empty = std::fs::read_dir(out).is_ok_and(|mut d| d.next().is_none());
@@ -306,12 +327,26 @@ fn site(name: &str, out: &Path) -> Result<(), Failure> {
             )));
         }
     }
-    let scenario = rockfall_sites::build(name).map_err(|e| match e {
-        rockfall_sites::SiteError::Unknown(_) => Failure::BadInput(e.into()),
-        other => Failure::Internal(other.into()),
-    })?;
-    let files = rockfall_io::write::write_scenario_dir(&scenario, out)
-        .map_err(|e| Failure::Internal(e.into()))?;
+    let files = if name == rockfall_sites::REGION_SITE.0 {
+        write_region(out, &region)?
+    } else {
+        let given = [
+            region.cells.map(|_| "--cells"),
+            region.cell_size_m.map(|_| "--cell-size-m"),
+            region.seed.map(|_| "--seed"),
+        ];
+        if let Some(key) = given.into_iter().flatten().next() {
+            return Err(Failure::BadInput(anyhow!(
+                "{key} is an option of `alpine-region` only; `{name}` is a fixed site"
+            )));
+        }
+        let scenario = rockfall_sites::build(name).map_err(|e| match e {
+            rockfall_sites::SiteError::Unknown(_) => Failure::BadInput(e.into()),
+            other => Failure::Internal(other.into()),
+        })?;
+        rockfall_io::write::write_scenario_dir(&scenario, out)
+            .map_err(|e| Failure::Internal(e.into()))?
+    };
     println!(
         "wrote site `{name}` to {} ({} files):",
         out.display(),
@@ -329,7 +364,28 @@ fn site(name: &str, out: &Path) -> Result<(), Failure> {
 
 fn list_sites() {
     println!("built-in sites:");
-    for (name, what) in rockfall_sites::SITES {
+    for (name, what) in rockfall_sites::SITES
+        .into_iter()
+        .chain([rockfall_sites::REGION_SITE])
+    {
         println!("  {name:<16} {what}");
     }
+}
+
+/// Writes `alpine-region` into `out`.
+fn write_region(out: &Path, o: &RegionOptions) -> Result<Vec<PathBuf>, Failure> {
+    use rockfall_sites::region::{self, RegionError, RegionSpec};
+    let spec = RegionSpec {
+        cells: o.cells.unwrap_or(region::DEFAULT_CELLS),
+        cell_size_m: o.cell_size_m.unwrap_or(region::DEFAULT_CELL_M),
+        seed: o.seed.unwrap_or(1),
+    };
+    let bad = |e: RegionError| Failure::BadInput(e.into());
+    region::check(&spec).map_err(bad)?;
+    std::fs::create_dir_all(out)
+        .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", out.display())))?;
+    region::write(out, &spec).map_err(|e| match e {
+        RegionError::Spec(_) => Failure::BadInput(e.into()),
+        other => Failure::Internal(other.into()),
+    })
 }

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{bad_input, ok, rockfall, rockfall_in, s};
+use common::{bad_input, json, ok, rockfall, rockfall_in, s};
 
 use tempfile::TempDir;
 
@@ -144,9 +144,88 @@ fn unknown_site_exits_2() {
 #[test]
 fn site_list_names_the_three_sites() {
     let out = ok(rockfall(&["site", "--list"]));
-    for name in SITES {
+    for name in SITES.iter().chain(&["alpine-region"]) {
         assert!(out.contains(name), "{out}");
     }
+}
+
+#[test]
+fn alpine_region_is_written_as_cogs_checked_and_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("region");
+    let written = ok(rockfall(&[
+        "site",
+        "alpine-region",
+        "--cells",
+        "40000",
+        "--seed",
+        "3",
+        "--out",
+        s(&dir),
+    ]));
+    assert!(
+        written.contains("dem.tif") && written.contains("stems_per_ha.tif"),
+        "{written}"
+    );
+    let scenario = dir.join("scenario.toml");
+    let check = ok(rockfall(&["check", s(&scenario)]));
+    assert!(
+        check.contains("200 columns × 200 rows, cell size 5 m"),
+        "{check}"
+    );
+    assert!(check.contains("EPSG:2056"), "{check}");
+    let out = tmp.path().join("out");
+    ok(rockfall(&[
+        "run",
+        s(&scenario),
+        "--rocks-per-cell",
+        "1",
+        "--out",
+        s(&out),
+    ]));
+    let summary = json(&out.join("summary.json"));
+    assert!(summary["rocks"].as_u64().unwrap() > 100, "{summary}");
+    assert!(
+        summary["cells_reached"].as_u64().unwrap() > 1_000,
+        "{summary}"
+    );
+    let per_cell = summary["cell_statistics_bytes_per_reached_cell"]
+        .as_f64()
+        .unwrap();
+    assert!(per_cell > 100.0 && per_cell < 512.0, "{per_cell}");
+}
+
+#[test]
+fn region_options_are_checked_and_refused_for_fixed_sites() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("x");
+    bad_input(
+        rockfall(&["site", "alpine-region", "--cells", "99", "--out", s(&out)]),
+        &["--cells 99", "10000"],
+    );
+    bad_input(
+        rockfall(&[
+            "site",
+            "alpine-region",
+            "--cell-size-m",
+            "100",
+            "--out",
+            s(&out),
+        ]),
+        &["--cell-size-m 100", "1 to 25 m"],
+    );
+    bad_input(
+        rockfall(&[
+            "site",
+            "vaujany-site2",
+            "--cells",
+            "40000",
+            "--out",
+            s(&out),
+        ]),
+        &["--cells", "alpine-region", "vaujany-site2"],
+    );
+    assert!(!out.exists(), "nothing written for a refused site");
 }
 
 #[test]

@@ -7,12 +7,15 @@
 //! | `vaujany-site2` | seed 000 §2.1: the forested slope | lumped |
 //! | `forest-slope-40` | seed 001 §3.4: the forested virtual 40° slope | rigid |
 //!
+//! | `alpine-region` | a procedural mountain region of 10⁴–4·10⁹ cells, written as COGs ([`region`]) | lumped |
+//!
 //! Each module documents what its paper gives and how every unknown (profile, roughness, soil
 //! type, release) was chosen, with its source. Nothing is tuned to the observed results.
 
 pub mod forest_slope;
 pub mod profile;
 pub mod ramp;
+pub mod region;
 pub mod vaujany;
 
 use rockfall_scenario::Scenario;
@@ -41,6 +44,13 @@ pub const SITES: [(&str, &str); 4] = [
          ground, dt 2 ms",
     ),
 ];
+
+/// The regional test site, written by [`region::write`] rather than built in memory.
+pub const REGION_SITE: (&str, &str) = (
+    "alpine-region",
+    "procedural mountain region (--cells 10⁴–4·10⁹, 5 m cells): cliffs, talus, valleys, \
+     forest stands; tiled COGs",
+);
 
 /// Why a site could not be built.
 #[derive(Debug, thiserror::Error)]
