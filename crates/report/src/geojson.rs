@@ -12,9 +12,10 @@ use std::path::Path;
 
 use rockfall_forest::Stem;
 use rockfall_raster::Crs;
-use rockfall_raster::atomic::write_bytes_atomic;
+use rockfall_raster::atomic::{write_atomic, write_bytes_atomic};
 use rockfall_results::{Event, TrajectoryRow};
 use serde_json::{Value, json};
+use std::io::Write;
 
 use crate::ReportError;
 
@@ -55,11 +56,23 @@ pub fn energy_kj(r: &TrajectoryRow) -> f64 {
 
 /// The GeoJSON `FeatureCollection` of the recorded trajectories.
 pub fn feature_collection(rows: &[TrajectoryRow], crs: Option<&Crs>, cell_size_m: f64) -> Value {
+    collection(
+        "trajectories",
+        crs,
+        trajectory_features(rows, cell_size_m).collect(),
+    )
+}
+
+/// The features of [`feature_collection`], one rock at a time.
+pub fn trajectory_features(
+    rows: &[TrajectoryRow],
+    cell_size_m: f64,
+) -> impl Iterator<Item = Value> + '_ {
     let spacing = vertex_spacing_m(cell_size_m);
-    let features: Vec<Value> = by_rock(rows)
+    by_rock(rows)
         .into_iter()
         .filter(|rock| rock.len() >= 2)
-        .map(|rock| {
+        .map(move |rock| {
             let coords: Vec<Value> = thin(rock, spacing)
                 .into_iter()
                 .map(|r| json!([mm(r.x_m), mm(r.y_m), mm(r.z_m)]))
@@ -83,38 +96,79 @@ pub fn feature_collection(rows: &[TrajectoryRow], crs: Option<&Crs>, cell_size_m
                 "geometry": {"type": "LineString", "coordinates": coords},
             })
         })
-        .collect();
-    collection("trajectories", crs, features)
 }
 
 /// The stems as a GeoJSON `FeatureCollection` of points `[x, y]` with their DBH (cm),
 /// height (m) and species.
 pub fn stems_collection(stems: &[Stem], crs: Option<&Crs>) -> Value {
-    let features: Vec<Value> = (stems.iter())
-        .map(|s| {
-            json!({
-                "type": "Feature",
-                "properties": {
-                    "dbh_cm": mm(s.dbh_cm),
-                    "height_m": mm(s.height_m),
-                    "species": s.species.name(),
-                },
-                "geometry": {"type": "Point", "coordinates": [mm(s.x_m), mm(s.y_m)]},
-            })
+    collection("stems", crs, stem_features(stems).collect())
+}
+
+/// The features of [`stems_collection`], one stem at a time.
+pub fn stem_features(stems: &[Stem]) -> impl Iterator<Item = Value> + '_ {
+    stems.iter().map(|s| {
+        json!({
+            "type": "Feature",
+            "properties": {
+                "dbh_cm": mm(s.dbh_cm),
+                "height_m": mm(s.height_m),
+                "species": s.species.name(),
+            },
+            "geometry": {"type": "Point", "coordinates": [mm(s.x_m), mm(s.y_m)]},
         })
-        .collect();
-    collection("stems", crs, features)
+    })
+}
+
+/// The `crs` member naming the CRS's EPSG code, when it has one.
+fn crs_member(crs: Option<&Crs>) -> Option<Value> {
+    let code = crs.and_then(|c| c.epsg)?;
+    let urn = format!("urn:ogc:def:crs:EPSG::{code}");
+    Some(json!({"type": "name", "properties": {"name": urn}}))
 }
 
 /// A named `FeatureCollection` with the CRS member when the CRS has an EPSG code.
 fn collection(name: &str, crs: Option<&Crs>, features: Vec<Value>) -> Value {
     let mut fc = json!({"type": "FeatureCollection", "name": name});
-    if let Some(code) = crs.and_then(|c| c.epsg) {
-        let urn = format!("urn:ogc:def:crs:EPSG::{code}");
-        fc["crs"] = json!({"type": "name", "properties": {"name": urn}});
+    if let Some(member) = crs_member(crs) {
+        fc["crs"] = member;
     }
     fc["features"] = Value::Array(features);
     fc
+}
+
+/// Writes the `FeatureCollection` `name` of `features` to `path` atomically, one feature at a
+/// time: the same bytes as [`write_geojson`] of the collection, without holding it (a
+/// region's stems are millions of features).
+pub fn write_feature_collection(
+    path: &Path,
+    name: &str,
+    crs: Option<&Crs>,
+    features: impl Iterator<Item = Value>,
+) -> Result<(), ReportError> {
+    let io = |e: std::io::Error| ReportError::Io {
+        path: path.to_path_buf(),
+        source: e,
+    };
+    write_atomic(path, |w| {
+        // the members in serde_json's (sorted) order: crs, features, name, type
+        w.write_all(b"{").map_err(io)?;
+        if let Some(member) = crs_member(crs) {
+            w.write_all(b"\"crs\":").map_err(io)?;
+            serde_json::to_writer(&mut *w, &member).map_err(|e| io(e.into()))?;
+            w.write_all(b",").map_err(io)?;
+        }
+        w.write_all(b"\"features\":[").map_err(io)?;
+        for (i, f) in features.enumerate() {
+            if i > 0 {
+                w.write_all(b",").map_err(io)?;
+            }
+            serde_json::to_writer(&mut *w, &f).map_err(|e| io(e.into()))?;
+        }
+        w.write_all(b"],\"name\":").map_err(io)?;
+        serde_json::to_writer(&mut *w, name).map_err(|e| io(e.into()))?;
+        w.write_all(b",\"type\":\"FeatureCollection\"}\n")
+            .map_err(io)
+    })
 }
 
 /// Writes a GeoJSON value to `path` atomically (compact JSON).
@@ -180,6 +234,41 @@ mod tests {
             fc["crs"]["properties"]["name"],
             "urn:ogc:def:crs:EPSG::2056"
         );
+    }
+
+    #[test]
+    fn streaming_writes_the_bytes_of_the_whole_collection() {
+        let rows: Vec<TrajectoryRow> = (0..=30)
+            .map(|i: u32| {
+                row(
+                    u64::from(i / 10),
+                    f64::from(i) * 0.1,
+                    f64::from(i),
+                    Event::Flight,
+                )
+            })
+            .collect();
+        let dir = tempfile::tempdir().unwrap();
+        let crs = Crs::from_epsg(2056);
+        let wkt_only = Crs::from_wkt("LOCAL_CS[\"x\"]");
+        for (k, crs) in [Some(&crs), Some(&wkt_only), None].into_iter().enumerate() {
+            let (whole, streamed) = (dir.path().join("a"), dir.path().join(format!("b{k}")));
+            write_geojson(&whole, &feature_collection(&rows, crs, 2.0)).unwrap();
+            let features = trajectory_features(&rows, 2.0);
+            write_feature_collection(&streamed, "trajectories", crs, features).unwrap();
+            assert_eq!(
+                std::fs::read(&whole).unwrap(),
+                std::fs::read(&streamed).unwrap()
+            );
+            // no feature at all
+            write_geojson(&whole, &feature_collection(&[], crs, 2.0)).unwrap();
+            let none = trajectory_features(&[], 2.0);
+            write_feature_collection(&streamed, "trajectories", crs, none).unwrap();
+            assert_eq!(
+                std::fs::read(&whole).unwrap(),
+                std::fs::read(&streamed).unwrap()
+            );
+        }
     }
 
     #[test]

@@ -47,20 +47,21 @@ pub(crate) fn write_vectors(
     let crs = input.scenario.terrain.dem.crs();
     let cell = input.scenario.terrain.dem.geometry().cell_size_m;
     let rows = input.results.trajectories();
-    let trajectories = (!rows.is_empty()).then(|| geojson::feature_collection(rows, crs, cell));
-    let stems = (!input.stems.is_empty()).then(|| geojson::stems_collection(input.stems, crs));
-    for (file, fc) in [
-        ("trajectories.geojson", trajectories),
-        ("stems.geojson", stems),
-    ] {
-        let path = out.join(file);
-        match fc {
-            Some(fc) => {
-                geojson::write_geojson(&path, &fc)?;
-                written.push(path);
-            }
-            None => remove_stale(&path)?,
-        }
+    let path = out.join("trajectories.geojson");
+    if rows.is_empty() {
+        remove_stale(&path)?;
+    } else {
+        let features = geojson::trajectory_features(rows, cell);
+        geojson::write_feature_collection(&path, "trajectories", crs, features)?;
+        written.push(path);
+    }
+    let path = out.join("stems.geojson");
+    if input.stems.is_empty() {
+        remove_stale(&path)?;
+    } else {
+        let features = geojson::stem_features(input.stems);
+        geojson::write_feature_collection(&path, "stems", crs, features)?;
+        written.push(path);
     }
     Ok(written)
 }
