@@ -106,6 +106,17 @@ impl LogAxis {
         max: f64,
     ) -> Option<f64> {
         let total: u64 = bins.clone().map(|(_, c)| c.into()).sum();
+        self.percentile_of_counted(bins, total, p, max)
+    }
+
+    /// As [`LogAxis::percentile_of_bins`] when the sum of the counts, `total`, is known.
+    pub(crate) fn percentile_of_counted<C: Copy + Into<u64>>(
+        &self,
+        bins: impl Iterator<Item = (usize, C)>,
+        total: u64,
+        p: f64,
+        max: f64,
+    ) -> Option<f64> {
         if total == 0 || p.is_nan() {
             return None;
         }

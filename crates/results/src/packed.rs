@@ -2,12 +2,14 @@
 //! smaller of two forms:
 //!
 //! - **list**: one 3-byte entry per visit (energy bin as `u16`, height bin as `u8`), for cells
-//!   visited a few times: most cells of a regional run;
+//!   visited a few times: most cells of a regional run. A list grows by half its length when
+//!   full, so that a visit seldom reallocates;
 //! - **windows**: each histogram kept only over the window of bins it has counts in, every
 //!   count in the narrowest of 1, 2 or 4 bytes that holds the largest.
 //!
 //! Layout of the block: byte 0 is the form (`LIST`, or the width's power of two: 0, 1 or 2
-//! for 1, 2 or 4 bytes). A list follows with its entries; windows with a header
+//! for 1, 2 or 4 bytes). A list follows with its length (`u8`) and its entries (and room for
+//! more); windows with a header
 //! `[energy lo, energy bins, height lo, height bins]` (four little-endian `u16`), then the
 //! energy window's counts, then the height window's, little-endian. Counts saturate at
 //! `u32::MAX` as the unpacked `[u32; N]` histograms they replace did (saturating sums of
@@ -15,12 +17,16 @@
 //! order-independent). Both forms hold the same counts: which one a cell is in changes no
 //! result.
 
-use crate::hist::{ENERGY_BINS, SHORT_BINS};
+use crate::hist::{ENERGY_BINS, LogAxis, SHORT_BINS};
 
 /// Byte 0 of a block in list form.
 const LIST: u8 = 3;
 /// Bytes per entry of a list.
 const ENTRY: usize = 3;
+/// Bytes before a list's entries: the form and the length.
+const LIST_HEAD: usize = 2;
+/// Most entries of a list (its length is a `u8`).
+const LIST_MAX: usize = u8::MAX as usize;
 /// Bytes before the counts of the windows form.
 const HEADER: usize = 9;
 
@@ -126,7 +132,7 @@ impl PackedHists {
         let d = self.dense();
         let visits: usize = d.counts[..d.e.n].iter().map(|&c| c as usize).sum();
         let max = d.counts.iter().copied().max().unwrap_or(0);
-        (1 + ENTRY * visits).min(HEADER + (d.counts.len() << shift_for(max)))
+        (LIST_HEAD + ENTRY * visits).min(HEADER + (d.counts.len() << shift_for(max)))
     }
 
     fn is_list(&self) -> bool {
@@ -137,9 +143,23 @@ impl PackedHists {
         usize::from(u16::from_le_bytes([self.data[at], self.data[at + 1]]))
     }
 
+    /// Entries of the list form (0 for the other forms).
+    fn list_len(&self) -> usize {
+        if self.is_list() {
+            usize::from(self.data[1])
+        } else {
+            0
+        }
+    }
+
     /// The list's entries `(energy bin, height bin)`.
     fn entries(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        let list = if self.is_list() { &self.data[1..] } else { &[] };
+        let n = self.list_len();
+        let list = if n > 0 {
+            &self.data[LIST_HEAD..LIST_HEAD + ENTRY * n]
+        } else {
+            &[]
+        };
         (list.chunks_exact(ENTRY)).map(|e| {
             (
                 usize::from(u16::from_le_bytes([e[0], e[1]])),
@@ -241,6 +261,52 @@ impl PackedHists {
             .map(move |(k, c)| (lo + k, c))
     }
 
+    /// The `p`-th percentile of the energy (`energy`) or passing-height histogram on `axis`,
+    /// clamped to `max` ([`LogAxis::percentile_of_bins`] of the same bins as
+    /// [`PackedHists::energy`] and [`PackedHists::height`], without copying a windows form).
+    ///
+    /// `visits`: the cell's visits, the sum of either histogram's counts unless a count
+    /// saturated, which only a cell of `u32::MAX` visits or more can have.
+    pub(crate) fn percentile(
+        &self,
+        energy: bool,
+        axis: &LogAxis,
+        visits: u64,
+        p: f64,
+        max: f64,
+    ) -> Option<f64> {
+        let pick = |e: Span, h: Span| if energy { (e, 0) } else { (h, e.n) };
+        if let Some((e, h, shift)) = self.windows() {
+            let (span, off) = pick(e, h);
+            let counts = &self.data[HEADER + (off << shift)..HEADER + ((off + span.n) << shift)];
+            let bins = |c: &mut dyn Iterator<Item = u32>| {
+                let bins = c.enumerate().map(|(k, c)| (span.lo + k, c));
+                if visits < u64::from(u32::MAX) {
+                    axis.percentile_of_counted(bins, visits, p, max)
+                } else {
+                    let bins: Vec<(usize, u32)> = bins.collect();
+                    axis.percentile_of_bins(bins.into_iter(), p, max)
+                }
+            };
+            return match shift {
+                0 => bins(&mut counts.iter().map(|&c| u32::from(c))),
+                1 => bins(
+                    &mut (counts.chunks_exact(2))
+                        .map(|c| u32::from(u16::from_le_bytes([c[0], c[1]]))),
+                ),
+                _ => bins(
+                    &mut (counts.chunks_exact(4))
+                        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])),
+                ),
+            };
+        }
+        // a list (a few visits) or nothing
+        let d = self.dense();
+        let (span, off) = pick(d.e, d.h);
+        let bins = (0..span.n).map(|k| (span.lo + k, d.counts[off + k]));
+        axis.percentile_of_bins(bins, p, max)
+    }
+
     /// One visit: energy bin `e_bin`, passing-height bin `h_bin`.
     #[inline]
     pub(crate) fn add(&mut self, e_bin: usize, h_bin: usize) {
@@ -267,15 +333,41 @@ impl PackedHists {
                 return;
             }
         }
+        if self.is_list() && self.push(e_bin, h_bin) {
+            return;
+        }
         let entry = PackedHists::entry(e_bin, h_bin);
         self.merge(&entry);
+    }
+
+    /// Appends a visit to a list when the list stays no longer than the windows its visits
+    /// need (growing its room by half when full); false when it would not.
+    fn push(&mut self, e_bin: usize, h_bin: usize) -> bool {
+        let n = self.list_len();
+        let (e, h) = self.spans();
+        let (e, h) = (e.union(Span::of_bin(e_bin)), h.union(Span::of_bin(h_bin)));
+        if n >= LIST_MAX || LIST_HEAD + ENTRY * (n + 1) > HEADER + e.n + h.n {
+            return false;
+        }
+        let room = (self.data.len() - LIST_HEAD) / ENTRY;
+        if n == room {
+            let grown = (room + room / 2 + 1).min(LIST_MAX);
+            let mut data = vec![0u8; LIST_HEAD + ENTRY * grown];
+            data[..self.data.len()].copy_from_slice(&self.data);
+            self.data = data.into_boxed_slice();
+        }
+        let at = LIST_HEAD + ENTRY * n;
+        let [a, b] = (e_bin as u16).to_le_bytes();
+        self.data[at..at + ENTRY].copy_from_slice(&[a, b, h_bin as u8]);
+        self.data[1] = (n + 1) as u8;
+        true
     }
 
     /// A list of one visit.
     fn entry(e_bin: usize, h_bin: usize) -> PackedHists {
         let [a, b] = (e_bin as u16).to_le_bytes();
         PackedHists {
-            data: Box::new([LIST, a, b, h_bin as u8]),
+            data: Box::new([LIST, 1, a, b, h_bin as u8]),
         }
     }
 
@@ -293,10 +385,12 @@ impl PackedHists {
         let (e, h) = (se.union(oe), sh.union(oh));
         if self.is_list() && o.is_list() {
             // a list stays a list while no longer than the windows its visits need
-            let list_bytes = self.data.len() + o.data.len() - 1;
-            if list_bytes <= HEADER + e.n + h.n {
-                let mut data = self.data.to_vec();
-                data.extend_from_slice(&o.data[1..]);
+            let (n, m) = (self.list_len(), o.list_len());
+            if n + m <= LIST_MAX && LIST_HEAD + ENTRY * (n + m) <= HEADER + e.n + h.n {
+                let mut data = Vec::with_capacity(LIST_HEAD + ENTRY * (n + m));
+                data.extend_from_slice(&[LIST, (n + m) as u8]);
+                data.extend_from_slice(&self.data[LIST_HEAD..LIST_HEAD + ENTRY * n]);
+                data.extend_from_slice(&o.data[LIST_HEAD..LIST_HEAD + ENTRY * m]);
                 self.data = data.into_boxed_slice();
                 return;
             }
@@ -377,11 +471,14 @@ mod tests {
             e[eb] += 1;
             h[hb] += 1;
             if i == 0 {
-                assert_eq!(p.heap_bytes(), 1 + ENTRY);
+                assert_eq!(p.heap_bytes(), LIST_HEAD + ENTRY);
             }
             if i == 4 {
                 // five visits: still a list, and the same counts as dense histograms
-                assert!(p.is_list() && p.heap_bytes() == 1 + 5 * ENTRY);
+                // room grows 1 → 2 → 4 → 7 entries
+                assert!(p.is_list() && p.list_len() == 5);
+                assert_eq!(p.heap_bytes(), LIST_HEAD + 7 * ENTRY);
+                assert_eq!(p.compact_bytes(), LIST_HEAD + 5 * ENTRY);
                 assert_eq!(dense(&p), (e.clone(), h.clone()));
             }
         }
@@ -400,6 +497,40 @@ mod tests {
     }
 
     #[test]
+    fn percentiles_of_either_form_are_those_of_the_dense_histograms_bit_for_bit() {
+        use crate::hist::{ENERGY_AXIS, SHORT_AXIS};
+        let mut p = PackedHists::new();
+        let mut state = 5u64;
+        for i in 0..400 {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            p.add(40 + (state >> 58) as usize, 10 + (state >> 59) as usize);
+            if i == 3 || i == 399 {
+                assert_eq!(p.is_list(), i == 3);
+                let (e, h) = dense(&p);
+                for q in [0.0, 5.0, 50.0, 90.0, 95.0, 99.9, 100.0] {
+                    let bits = |v: Option<f64>| v.map(f64::to_bits);
+                    assert_eq!(
+                        bits(p.percentile(true, &ENERGY_AXIS, i + 1, q, 1e6)),
+                        bits(ENERGY_AXIS.percentile(&e, q, 1e6)),
+                        "energy p{q} after {i}"
+                    );
+                    assert_eq!(
+                        bits(p.percentile(false, &SHORT_AXIS, i + 1, q, 9.0)),
+                        bits(SHORT_AXIS.percentile(&h, q, 9.0)),
+                        "height p{q} after {i}"
+                    );
+                }
+            }
+        }
+        assert_eq!(
+            PackedHists::new().percentile(true, &ENERGY_AXIS, 0, 50.0, 1.0),
+            None
+        );
+    }
+
+    #[test]
     fn merging_saturates_at_u32_max_in_any_order() {
         let big = PackedHists::from_bins(&[(5, u32::MAX - 1)], &[(0, 3)]);
         let small = PackedHists::from_bins(&[(5, 2), (300, 1)], &[(193, 1)]);
@@ -410,6 +541,13 @@ mod tests {
         assert_eq!(dense(&a), dense(&b));
         assert_eq!(dense(&a).0[5], u32::MAX);
         assert_eq!(dense(&a).0[300], 1);
+        // a saturated histogram: its counts, not the visits, rank the percentile
+        let visits = u64::from(u32::MAX) + 3;
+        for q in [50.0, 100.0] {
+            let at = a.percentile(true, &crate::hist::ENERGY_AXIS, visits, q, 1e9);
+            let dense_at = crate::hist::ENERGY_AXIS.percentile(&dense(&a).0, q, 1e9);
+            assert_eq!(at.map(f64::to_bits), dense_at.map(f64::to_bits), "p{q}");
+        }
         a.add(5, 0);
         assert_eq!(dense(&a).0[5], u32::MAX);
         assert_eq!(dense(&a).1[0], 4);

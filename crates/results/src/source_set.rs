@@ -54,20 +54,25 @@ impl SourceSet {
         }
         let joins_left = i > 0 && self.last(i - 1) + 1 == s;
         let joins_right = i < n && self.first(i) - 1 == s;
-        let mut runs = self.runs.to_vec();
         match (joins_left, joins_right) {
+            // a run grows by one: in place
+            (true, false) => self.runs[2 * i - 1] = s,
+            (false, true) => self.runs[2 * i] = s,
             (true, true) => {
                 // [a, s−1] + s + [s+1, b] → [a, b]
+                let mut runs = self.runs.to_vec();
                 runs[2 * i - 1] = self.last(i);
                 runs.drain(2 * i..2 * i + 2);
+                self.runs = runs.into_boxed_slice();
             }
-            (true, false) => runs[2 * i - 1] = s,
-            (false, true) => runs[2 * i] = s,
             (false, false) => {
-                runs.splice(2 * i..2 * i, [s, s]);
+                let mut runs = Vec::with_capacity(self.runs.len() + 2);
+                runs.extend_from_slice(&self.runs[..2 * i]);
+                runs.extend([s, s]);
+                runs.extend_from_slice(&self.runs[2 * i..]);
+                self.runs = runs.into_boxed_slice();
             }
         }
-        self.runs = runs.into_boxed_slice();
     }
 
     /// Every source, ascending.
