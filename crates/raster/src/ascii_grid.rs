@@ -45,6 +45,12 @@ pub fn read(path: &Path) -> Result<Grid<f64>, RasterError> {
     Ok(grid)
 }
 
+/// The grid and CRS of an ESRI ASCII grid (read whole: ASCII grids are the small ones).
+pub fn read_geometry(path: &Path) -> Result<(GridGeometry, Option<Crs>), RasterError> {
+    let grid = read(path)?;
+    Ok((*grid.geometry(), grid.crs().cloned()))
+}
+
 /// The `.prj` sidecar of a grid file (same stem).
 pub fn prj_path(path: &Path) -> PathBuf {
     path.with_extension("prj")

@@ -73,11 +73,17 @@ pub fn decode(bytes: &[u8], path: &Path) -> Result<Grid<f64>, RasterError> {
 /// decompression bombs and lying headers, which fuzzing reaches with a few bytes).
 const MAX_EXPANSION: u64 = 1 << 16;
 
-fn read_from<R: Read + Seek>(
-    reader: R,
-    file_len: u64,
-    path: &Path,
-) -> Result<Grid<f64>, RasterError> {
+/// A GeoTIFF whose header is read: its decoder, full grid, nodata marker and CRS.
+struct Opened<R: Read + Seek> {
+    dec: Decoder<R>,
+    geometry: GridGeometry,
+    nodata: Option<f64>,
+    epsg: Option<u32>,
+    bits: u32,
+}
+
+/// Reads and checks a GeoTIFF's header (see [`read`]).
+fn open<R: Read + Seek>(reader: R, file_len: u64, path: &Path) -> Result<Opened<R>, RasterError> {
     let fail = |message: String| RasterError::Tiff {
         path: path.to_path_buf(),
         message,
@@ -111,7 +117,6 @@ fn read_from<R: Read + Seek>(
         }
     };
     let stored = check_chunks_in_file(&mut dec, file_len).map_err(fail)?;
-
     let (ncols, nrows) = (width as usize, height as usize);
     let n = ncols.saturating_mul(nrows);
     let decoded = (n as u64).saturating_mul(u64::from(bits / 8));
@@ -121,20 +126,103 @@ fn read_from<R: Read + Seek>(
              data the file holds"
         )));
     }
+    let geometry = GridGeometry {
+        ncols,
+        nrows,
+        x_min_m,
+        y_min_m: y_max - nrows as f64 * cell_size_m,
+        cell_size_m,
+    };
+    Ok(Opened {
+        dec,
+        geometry,
+        nodata,
+        epsg,
+        bits,
+    })
+}
+
+/// The grid and CRS of a GeoTIFF, from its header alone.
+pub fn read_geometry(path: &Path) -> Result<(GridGeometry, Option<Crs>), RasterError> {
+    let file = File::open(path).map_err(|e| RasterError::io(path, e))?;
+    let file_len = (file.metadata())
+        .map_err(|e| RasterError::io(path, e))?
+        .len();
+    let o = open(BufReader::new(file), file_len, path)?;
+    Ok((o.geometry, o.epsg.map(Crs::from_epsg)))
+}
+
+/// The cells of `window` of a GeoTIFF, decoding only the strips or tiles it touches; `None`
+/// (with the file's grid) when the window does not fit the file's grid.
+pub fn read_window(
+    path: &Path,
+    window: &crate::Window,
+) -> Result<(Option<Grid<f64>>, GridGeometry), RasterError> {
+    let file = File::open(path).map_err(|e| RasterError::io(path, e))?;
+    let file_len = (file.metadata())
+        .map_err(|e| RasterError::io(path, e))?
+        .len();
+    let o = open(BufReader::new(file), file_len, path)?;
+    let full = o.geometry;
+    if !window.fits(full.ncols, full.nrows) {
+        return Ok((None, full));
+    }
+    Ok((Some(read_cells(o, window, path)?), full))
+}
+
+fn read_from<R: Read + Seek>(
+    reader: R,
+    file_len: u64,
+    path: &Path,
+) -> Result<Grid<f64>, RasterError> {
+    let o = open(reader, file_len, path)?;
+    let all = crate::Window {
+        col0: 0,
+        row0: 0,
+        ncols: o.geometry.ncols,
+        nrows: o.geometry.nrows,
+    };
+    read_cells(o, &all, path)
+}
+
+/// The cells of `w` (inside the file's grid) of an opened GeoTIFF: the strips or tiles it
+/// touches, decoded one at a time straight into their place.
+fn read_cells<R: Read + Seek>(
+    o: Opened<R>,
+    w: &crate::Window,
+    path: &Path,
+) -> Result<Grid<f64>, RasterError> {
+    let fail = |message: String| RasterError::Tiff {
+        path: path.to_path_buf(),
+        message,
+    };
+    let bad = |e: TiffError| fail(format!("not a readable TIFF: {e}"));
+    let Opened {
+        dec,
+        geometry: full,
+        nodata,
+        epsg,
+        bits,
+    } = o;
+    let (ncols, nrows) = (full.ncols, full.nrows);
+    let n = w.ncols.saturating_mul(w.nrows);
     let mut values: Vec<f64> = Vec::new();
-    values
-        .try_reserve_exact(n)
-        .map_err(|_| fail(format!("{width} × {height} pixels do not fit in memory")))?;
+    values.try_reserve_exact(n).map_err(|_| {
+        fail(format!(
+            "{} × {} pixels do not fit in memory",
+            w.ncols, w.nrows
+        ))
+    })?;
     values.resize(n, 0.0);
     // A file written in one strip decodes as one chunk: allow it the image's size.
     let mut limits = Limits::default();
-    let bytes = n.saturating_mul(bits as usize / 8);
+    let bytes = ncols
+        .saturating_mul(nrows)
+        .saturating_mul(bits as usize / 8);
     limits.decoding_buffer_size = limits.decoding_buffer_size.max(bytes);
     limits.intermediate_buffer_size = limits.intermediate_buffer_size.max(bytes);
     limits.ifd_value_size = limits.ifd_value_size.max(1 << 26);
     let mut dec = dec.with_limits(limits);
-    // Strips or tiles, decoded one at a time straight into their place: no copy of the whole
-    // image in the file's sample type.
     let (chunk_w, chunk_h) = dec.chunk_dimensions();
     let (chunk_w, chunk_h) = (chunk_w.max(1) as usize, chunk_h.max(1) as usize);
     let across = ncols.div_ceil(chunk_w);
@@ -144,18 +232,30 @@ fn read_from<R: Read + Seek>(
     for index in 0..chunks {
         let index32 = u32::try_from(index).map_err(|_| fail(format!("{chunks} chunks")))?;
         let (x0, y0) = ((index % across) * chunk_w, (index / across) * chunk_h);
-        let (w, h) = dec.chunk_data_dimensions(index32);
-        let (w, h) = (w as usize, h as usize);
+        // chunks the window does not touch are not decoded
+        if x0 >= w.col0 + w.ncols
+            || y0 >= w.row0 + w.nrows
+            || x0 + chunk_w <= w.col0
+            || y0 + chunk_h <= w.row0
+        {
+            continue;
+        }
+        let (cw, ch) = dec.chunk_data_dimensions(index32);
+        let (cw, ch) = (cw as usize, ch as usize);
         float32 |= samples_as_f64(dec.read_chunk(index32).map_err(bad)?, &mut chunk);
-        if chunk.len() != w * h || x0 + w > ncols || y0 + h > nrows {
+        if chunk.len() != cw * ch || x0 + cw > ncols || y0 + ch > nrows {
             return Err(fail(format!(
-                "chunk {index}: {} samples for {w} × {h} pixels at ({x0}, {y0}) of {width} × {height}",
+                "chunk {index}: {} samples for {cw} × {ch} pixels at ({x0}, {y0}) of {ncols} × {nrows}",
                 chunk.len()
             )));
         }
-        for (r, line) in chunk.chunks_exact(w).enumerate() {
-            let start = (y0 + r) * ncols + x0;
-            values[start..start + w].copy_from_slice(line);
+        // the rectangle shared by the chunk and the window
+        let (c0, c1) = (x0.max(w.col0), (x0 + cw).min(w.col0 + w.ncols));
+        let (r0, r1) = (y0.max(w.row0), (y0 + ch).min(w.row0 + w.nrows));
+        for r in r0..r1 {
+            let line = &chunk[(r - y0) * cw..][..cw];
+            let start = (r - w.row0) * w.ncols + (c0 - w.col0);
+            values[start..start + (c1 - c0)].copy_from_slice(&line[c0 - x0..c1 - x0]);
         }
     }
     // Float32 data are compared with the marker rounded to f32, as GDAL does.
@@ -163,16 +263,16 @@ fn read_from<R: Read + Seek>(
         true => nodata.map(|x| f64::from(x as f32)),
         false => nodata,
     };
-    let geometry = GridGeometry {
-        ncols,
-        nrows,
-        x_min_m,
-        y_min_m: y_max - nrows as f64 * cell_size_m,
-        cell_size_m,
-    };
+    let geometry = full
+        .window(w)
+        .ok_or_else(|| fail(format!("window {w:?} outside {ncols} × {nrows}")))?;
     let found = values.len();
-    let mut grid = Grid::from_values(geometry, values)
-        .ok_or_else(|| fail(format!("{found} samples for {width} × {height} pixels")))?;
+    let mut grid = Grid::from_values(geometry, values).ok_or_else(|| {
+        fail(format!(
+            "{found} samples for {} × {} pixels",
+            w.ncols, w.nrows
+        ))
+    })?;
     for i in 0..n {
         let v = grid.values()[i];
         if !v.is_finite() || Some(v) == nd {

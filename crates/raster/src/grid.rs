@@ -74,7 +74,48 @@ impl std::fmt::Display for GeometryMismatch {
     }
 }
 
+/// A rectangle of a grid's cells: columns `col0 .. col0 + ncols`, rows `row0 .. row0 + nrows`
+/// (row 0 north).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Window {
+    /// First column.
+    pub col0: usize,
+    /// First row (from the north).
+    pub row0: usize,
+    /// Columns.
+    pub ncols: usize,
+    /// Rows.
+    pub nrows: usize,
+}
+
+impl Window {
+    /// True when the window has cells and lies inside a grid of `ncols × nrows`.
+    pub fn fits(&self, ncols: usize, nrows: usize) -> bool {
+        self.ncols > 0
+            && self.nrows > 0
+            && self
+                .col0
+                .checked_add(self.ncols)
+                .is_some_and(|e| e <= ncols)
+            && self
+                .row0
+                .checked_add(self.nrows)
+                .is_some_and(|e| e <= nrows)
+    }
+}
+
 impl GridGeometry {
+    /// The geometry of `window` of this grid; `None` when it does not fit in it.
+    pub fn window(&self, window: &Window) -> Option<GridGeometry> {
+        window.fits(self.ncols, self.nrows).then(|| GridGeometry {
+            ncols: window.ncols,
+            nrows: window.nrows,
+            x_min_m: self.x_min_m + window.col0 as f64 * self.cell_size_m,
+            y_min_m: self.y_max_m() - (window.row0 + window.nrows) as f64 * self.cell_size_m,
+            cell_size_m: self.cell_size_m,
+        })
+    }
+
     /// x of the eastern edge, m.
     pub fn x_max_m(&self) -> f64 {
         self.x_min_m + self.ncols as f64 * self.cell_size_m
@@ -183,6 +224,27 @@ pub struct Grid<T> {
 }
 
 impl<T: Copy + Default> Grid<T> {
+    /// The cells of `window` as a grid of their own (CRS and nodata marker kept); `None`
+    /// when the window does not fit in this grid.
+    pub fn window(&self, window: &Window) -> Option<Grid<T>> {
+        let geometry = self.geometry.window(window)?;
+        let n = self.geometry.ncols;
+        let mut values = Vec::with_capacity(window.ncols * window.nrows);
+        let mut valid = Vec::with_capacity(window.ncols * window.nrows);
+        for row in window.row0..window.row0 + window.nrows {
+            let start = row * n + window.col0;
+            values.extend_from_slice(&self.values[start..start + window.ncols]);
+            valid.extend_from_slice(&self.valid[start..start + window.ncols]);
+        }
+        Some(Grid {
+            geometry,
+            values,
+            valid,
+            crs: self.crs.clone(),
+            nodata_value: self.nodata_value,
+        })
+    }
+
     /// A grid with every cell set to `value` and valid.
     pub fn filled(geometry: GridGeometry, value: T) -> Self {
         Grid {

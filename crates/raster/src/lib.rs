@@ -30,7 +30,7 @@ pub mod rows;
 pub use crs::Crs;
 pub use error::RasterError;
 pub use field::Field;
-pub use grid::{GeometryMismatch, Grid, GridGeometry};
+pub use grid::{GeometryMismatch, Grid, GridGeometry, Window};
 pub use rows::{RasterView, Rows};
 
 use std::path::Path;
@@ -53,6 +53,37 @@ pub fn read_grid(path: &Path) -> Result<Grid<f64>, RasterError> {
     match format_of(path)? {
         Format::Ascii => ascii_grid::read(path),
         Format::GeoTiff => geotiff::read(path),
+    }
+}
+
+/// The cells of `window` of a raster, choosing the format from the extension. Of a GeoTIFF
+/// only the strips or tiles the window touches are decoded, so a tiled file's window costs
+/// its own cells; an ASCII grid is read whole, then cut. A window that does not fit the
+/// raster is [`RasterError::Invalid`].
+pub fn read_grid_window(path: &Path, window: &Window) -> Result<Grid<f64>, RasterError> {
+    let outside = |g: &GridGeometry| RasterError::Invalid {
+        path: path.to_path_buf(),
+        message: format!(
+            "window of {} × {} cells at column {}, row {} is outside its {} × {} cells",
+            window.ncols, window.nrows, window.col0, window.row0, g.ncols, g.nrows
+        ),
+    };
+    match format_of(path)? {
+        Format::Ascii => {
+            let grid = ascii_grid::read(path)?;
+            grid.window(window).ok_or_else(|| outside(grid.geometry()))
+        }
+        Format::GeoTiff => geotiff::read_window(path, window)
+            .and_then(|(grid, full)| grid.ok_or_else(|| outside(&full))),
+    }
+}
+
+/// The grid and CRS of a raster, reading its header only (a GeoTIFF's tags, an ASCII grid's
+/// first lines and `.prj`).
+pub fn read_geometry(path: &Path) -> Result<(GridGeometry, Option<Crs>), RasterError> {
+    match format_of(path)? {
+        Format::Ascii => ascii_grid::read_geometry(path),
+        Format::GeoTiff => geotiff::read_geometry(path),
     }
 }
 

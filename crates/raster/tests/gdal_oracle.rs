@@ -9,7 +9,9 @@
 use std::path::Path;
 use std::process::Command;
 
-use rockfall_raster::{Crs, Grid, GridGeometry, RasterError, SampleType, ascii_grid, geotiff};
+use rockfall_raster::{
+    Crs, Grid, GridGeometry, RasterError, SampleType, Window, ascii_grid, geotiff, read_grid_window,
+};
 use serde_json::Value;
 
 mod common;
@@ -246,6 +248,23 @@ fn gdal_tiles_and_strips_of_every_shape_read_back_in_place() {
         run("gdal_translate", &args);
         let back = geotiff::read(&theirs).unwrap_or_else(|e| panic!("{options:?}: {e}"));
         assert_eq!(back, expected, "{options:?}");
+        // windows across strip and tile edges, and at the grid's edges, read alone
+        for w in [
+            (3, 4, 20, 9),
+            (15, 15, 3, 3),
+            (0, 22, 37, 1),
+            (36, 0, 1, 23),
+            (17, 5, 20, 18),
+        ] {
+            let w = Window {
+                col0: w.0,
+                row0: w.1,
+                ncols: w.2,
+                nrows: w.3,
+            };
+            let part = read_grid_window(&theirs, &w).unwrap();
+            assert_eq!(part, expected.window(&w).unwrap(), "{options:?} {w:?}");
+        }
     }
 }
 
