@@ -18,10 +18,13 @@
 //!   the height stays continuous.
 //!
 //! The noise is value noise on a hashed integer lattice with quintic interpolation (C², so
-//! slopes are continuous), each octave rotated to hide the lattice's axes.
+//! slopes are continuous), each octave rotated and the whole warped by a slow noise (up to
+//! 2 km) to hide the lattice.
 
 /// Wavelength of the first octave, m.
 const BASE_WAVELENGTH_M: f64 = 6_000.0;
+/// Largest shift of the domain warp, m.
+const WARP_M: f64 = 2_000.0;
 /// Octaves of the ridged noise.
 const OCTAVES: u32 = 5;
 /// Amplitude of the smooth detail below the ridged octaves, m.
@@ -73,9 +76,9 @@ pub(crate) fn value_noise(x: f64, y: f64, salt: u64) -> f64 {
     bottom + (top - bottom) * v
 }
 
-/// (x, y) rotated by octave `o`'s angle (o × 0.61 rad).
+/// (x, y) rotated by octave `o`'s angle ((o + 1) × 0.61 rad).
 fn rotated(x: f64, y: f64, o: u32) -> (f64, f64) {
-    let (s, c) = (f64::from(o) * 0.61).sin_cos();
+    let (s, c) = (f64::from(o + 1) * 0.61).sin_cos();
     (c * x - s * y, s * x + c * y)
 }
 
@@ -91,8 +94,13 @@ impl Relief {
         Relief { seed }
     }
 
-    /// The ridged field in [0, 1] at (x, y) (m).
+    /// The ridged field in [0, 1] at (x, y) (m), its coordinates warped by up to
+    /// [`WARP_M`] (a domain warp: ridges bend instead of following the noise lattice).
     fn ridged(&self, x_m: f64, y_m: f64) -> f64 {
+        let f = 1.0 / BASE_WAVELENGTH_M;
+        let (wx, wy) = rotated(x_m * f, y_m * f, 9);
+        let x_m = x_m + WARP_M * value_noise(wx, wy, self.seed ^ 0x7761_7270_78);
+        let y_m = y_m + WARP_M * value_noise(wx, wy, self.seed ^ 0x7761_7270_79);
         let (mut sum, mut norm, mut amp) = (0.0, 0.0, 1.0);
         let mut freq = 1.0 / BASE_WAVELENGTH_M;
         for o in 0..OCTAVES {
