@@ -142,7 +142,7 @@ fn energy_line_angle_deg(
 /// entirely by one tally. When all rocks are done, [`Tally::merge`] the tallies in any order:
 /// the result is bit-identical.
 ///
-/// Memory: per touched cell the statistics described in the crate documentation (≈ 0.35–0.4 kB
+/// Memory: per touched cell the statistics described in the crate documentation (≈ 0.35–0.5 kB
 /// per visited cell) and 1 KiB per touched block of 16 × 16 cells, ≈ 0.016 byte per grid
 /// cell, plus the recorded rows; nothing per rock unless [`Layout::rock_ends`], which keeps
 /// one [`RockRecord`] per rock.
