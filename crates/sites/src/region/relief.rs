@@ -99,8 +99,8 @@ impl Relief {
     fn ridged(&self, x_m: f64, y_m: f64) -> f64 {
         let f = 1.0 / BASE_WAVELENGTH_M;
         let (wx, wy) = rotated(x_m * f, y_m * f, 9);
-        let x_m = x_m + WARP_M * value_noise(wx, wy, self.seed ^ 0x7761_7270_78);
-        let y_m = y_m + WARP_M * value_noise(wx, wy, self.seed ^ 0x7761_7270_79);
+        let x_m = x_m + WARP_M * value_noise(wx, wy, self.seed ^ 0x0077_6172_7078);
+        let y_m = y_m + WARP_M * value_noise(wx, wy, self.seed ^ 0x0077_6172_7079);
         let (mut sum, mut norm, mut amp) = (0.0, 0.0, 1.0);
         let mut freq = 1.0 / BASE_WAVELENGTH_M;
         for o in 0..OCTAVES {
