@@ -98,13 +98,8 @@ pub fn trajectory_features(
         })
 }
 
-/// The stems as a GeoJSON `FeatureCollection` of points `[x, y]` with their DBH (cm),
-/// height (m) and species.
-pub fn stems_collection(stems: &[Stem], crs: Option<&Crs>) -> Value {
-    collection("stems", crs, stem_features(stems).collect())
-}
-
-/// The features of [`stems_collection`], one stem at a time.
+/// The stems as GeoJSON point features `[x, y]` with their DBH (cm), height (m) and species,
+/// one stem at a time (written by [`write_feature_collection`]).
 pub fn stem_features(stems: &[Stem]) -> impl Iterator<Item = Value> + '_ {
     stems.iter().map(|s| {
         json!({

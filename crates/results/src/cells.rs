@@ -484,17 +484,8 @@ impl CellTable {
         }
     }
 
-    /// Adds the statistics of `cells` (of this grid), one entry per cell at most.
-    pub(crate) fn absorb<'a>(&mut self, cells: impl IntoIterator<Item = &'a CellStats>) {
-        for stats in cells {
-            if let Some(c) = self.entry(stats.cell) {
-                c.merge(stats);
-            }
-        }
-    }
-
-    /// As [`CellTable::absorb`], taking the statistics: a cell new to this table takes them
-    /// as they are (no copy of its heap blocks).
+    /// Adds the statistics of `cells` (of this grid), one entry per cell at most: a cell new
+    /// to this table takes them as they are (no copy of its heap blocks).
     pub(crate) fn absorb_owned(&mut self, cells: impl IntoIterator<Item = CellStats>) {
         for stats in cells {
             let Some((block, slot)) = self.locate(stats.cell) else {

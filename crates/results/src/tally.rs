@@ -362,9 +362,7 @@ impl Tally {
         let table = shared.0.into_inner().unwrap_or_else(|p| p.into_inner());
         if self.cells.len() == 0 {
             // the shared table is the whole: take it rather than copy it
-            let mut table = table;
-            std::mem::swap(&mut self.cells, &mut table);
-            self.cells.merge(table);
+            self.cells = table;
         } else {
             self.cells.merge(table);
         }

@@ -195,7 +195,7 @@ pub(crate) fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeErro
         if c.cell >= len {
             return Err(d.corrupt(d.pos(), format!("cell {} outside the grid", c.cell)));
         }
-        t.cells.absorb([&c]);
+        t.cells.absorb_owned([c]);
     }
     let n = d.len(16)?;
     t.rows.reserve(n);
