@@ -87,10 +87,25 @@ pub enum Command {
         /// scenario's `until_stable_pct`, none.
         #[arg(long, value_name = "TOL", value_parser = parse_tolerance)]
         until_stable: Option<f64>,
+        /// Run only spatial tile i of N (row-major from the north-west) of the region: the
+        /// rocks of the tile's source cells, on the tile and a halo around it (--halo-m),
+        /// bit-identical to the same rocks in a run of the whole region. Writes the tile's
+        /// exact tallies (rockfall.tally) and tile.json for `rockfall merge`; the grid is cut
+        /// into N near-square tiles, or into squares of --tile-size-m.
+        #[arg(long, value_name = "i/N", value_parser = parse_partition, conflicts_with_all = ["partition", "until_stable"])]
+        tile: Option<rockfall_sim::Partition>,
+        /// Side of the square tiles, m (with --tile; N must then be the number of tiles this
+        /// size makes, which the error states).
+        #[arg(long, value_name = "D", requires = "tile", value_parser = parse_positive_m)]
+        tile_size_m: Option<f64>,
+        /// Halo read around a tile, m (with --tile; default 1000). A rock that goes farther
+        /// is simulated again on a halo twice as wide.
+        #[arg(long, value_name = "H", requires = "tile", value_parser = parse_positive_m)]
+        halo_m: Option<f64>,
         /// Continue the interrupted run whose output folder is DIR (its checkpoint.tally),
         /// with the input, seed and rocks it started with; ends bit-identical to an
         /// uninterrupted run.
-        #[arg(long, value_name = "DIR", conflicts_with_all = ["engine", "rocks_per_cell", "rocks_per_point", "seed", "partition", "until_stable"])]
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["engine", "rocks_per_cell", "rocks_per_point", "seed", "partition", "until_stable", "tile"])]
         resume: Option<PathBuf>,
     },
     /// Merge the run folders of the shares of one run (`rockfall run --partition i/N`, all N
@@ -360,6 +375,14 @@ pub enum Command {
 /// `i/N` as a [`rockfall_sim::Partition`].
 fn parse_partition(s: &str) -> Result<rockfall_sim::Partition, String> {
     s.parse()
+}
+
+/// A length in metres above 0.
+fn parse_positive_m(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        _ => Err(format!("`{s}`: a length in metres above 0, e.g. 5000")),
+    }
 }
 
 /// A convergence tolerance: a percentage above 0 and at most 100.

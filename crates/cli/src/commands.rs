@@ -52,6 +52,9 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             ascii,
             partition,
             until_stable,
+            tile,
+            tile_size_m,
+            halo_m,
             resume,
         } => {
             if let Some(dir) = resume {
@@ -77,6 +80,15 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
                 threads: threads.map(|n| n as usize),
                 until_stable_pct: until_stable,
             };
+            if let Some(t) = tile {
+                let spec = rockfall_sim::tile::TileSpec {
+                    index: t.index,
+                    count: t.count,
+                    size_m: tile_size_m,
+                    halo_m: halo_m.unwrap_or(rockfall_sim::tile::DEFAULT_HALO_M),
+                };
+                return crate::tiles::run(&input, &overrides, &spec, &out);
+            }
             #[cfg(feature = "mpi")]
             if crate::mpi_run::launched() {
                 if partition.is_some() || until_stable.is_some() {

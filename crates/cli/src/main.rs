@@ -11,6 +11,7 @@ mod mpi_run;
 mod regional;
 mod schema;
 mod simulate;
+mod tiles;
 mod validate;
 
 use clap::Parser;

@@ -151,7 +151,11 @@ fn reload(
 ) -> Result<Simulation, Failure> {
     let path = input.map_or_else(|| PathBuf::from(&record.input), Path::to_path_buf);
     let sim = load_simulation(&path, &overrides_of(record, threads)?)?;
-    let now = rockfall_sim::share::fingerprint(sim.scenario());
+    let now = match record.fingerprint.starts_with("tiles-") {
+        true => rockfall_sim::share::tile_fingerprint(sim.scenario())
+            .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", path.display())))?,
+        false => rockfall_sim::share::fingerprint(sim.scenario()),
+    };
     if now != record.fingerprint {
         return Err(Failure::BadInput(anyhow!(
             "{}: the input changed since the run started (scenario fingerprint {now}, the run \
@@ -218,7 +222,8 @@ pub fn merge(
                 "its run did not finish (only checkpoint.tally); continue it with `rockfall run \
                  --resume` on it"
             } else {
-                "no rockfall.tally: not the output folder of `rockfall run --partition`"
+                "no rockfall.tally: not the output folder of `rockfall run --partition` or \
+                 `--tile`"
             };
             return Err(Failure::BadInput(anyhow!("{}: {why}", d.display())));
         }

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{bad_input, json, ok, rockfall, s};
+use common::{bad_input, json, ok, rockfall, s, same_outputs};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -32,34 +32,6 @@ fn site2() -> (tempfile::TempDir, PathBuf) {
     );
     std::fs::write(&path, edited).unwrap();
     (tmp, path)
-}
-
-/// `summary.json` without its timings.
-fn summary(dir: &Path) -> serde_json::Value {
-    let mut v = json(&dir.join("summary.json"));
-    for k in ["threads", "wall_time_s", "trajectories_per_s"] {
-        v.as_object_mut().unwrap().remove(k).unwrap();
-    }
-    v
-}
-
-/// Every raster and table of `a` is in `b`, byte for byte, and the summaries agree but for
-/// timings.
-fn same_outputs(a: &Path, b: &Path) {
-    let mut n = 0;
-    for e in std::fs::read_dir(a).unwrap() {
-        let name = e.unwrap().file_name().into_string().unwrap();
-        if name.ends_with(".tif") || name.ends_with(".asc") || name.ends_with(".csv") {
-            let (x, y) = (
-                std::fs::read(a.join(&name)).unwrap(),
-                std::fs::read(b.join(&name)),
-            );
-            assert!(x == y.unwrap(), "{name} differs");
-            n += 1;
-        }
-    }
-    assert!(n >= 15, "{n} files compared");
-    assert_eq!(summary(a), summary(b));
 }
 
 #[test]

@@ -110,6 +110,7 @@ mod tests {
             rock_ends: false,
             screen_crossings: false,
             elevation: Default::default(),
+            trusted: Default::default(),
         });
         // 11 rocks in three ranges: no chunk size below divides them
         let rocks = RockSet::from_ranges([3..5, 9..17, 40..41]);

@@ -101,7 +101,54 @@ impl Releases {
     /// with `rocks_per_cell` rocks released with the gap `cell_height_m` over the cell centre,
     /// then its points in file order with `rocks_per_point` rocks each. Negative gaps count
     /// as 0.
+    ///
+    /// For a spatial tile ([`Scenario::tile`]): the core's source cells, then the points in
+    /// the core, each numbered as in the region's run (source cell by its number among the
+    /// region's, point by its index), so that its rocks are the region's rocks of the same
+    /// numbers.
     pub fn of(scenario: &Scenario) -> Releases {
+        let all = Releases::listed(scenario);
+        let Some(tile) = &scenario.tile else {
+            return Releases::new(all);
+        };
+        let (rpc, rpp) = (
+            scenario.simulation.rocks_per_cell,
+            scenario.simulation.rocks_per_point,
+        );
+        let g = *scenario.terrain.dem.geometry();
+        let cells_end = tile.region_source_cells.saturating_mul(rpc);
+        let mut placed = Vec::with_capacity(all.len());
+        for r in all {
+            let first = match r.origin {
+                Origin::Cell(k) => {
+                    let at = scenario.release.cells.binary_search(&k).unwrap_or(0);
+                    tile.ordinals
+                        .get(at)
+                        .copied()
+                        .unwrap_or(0)
+                        .saturating_mul(rpc)
+                }
+                Origin::Point(k) => {
+                    let inside = g.cell_of(r.xy_m[0], r.xy_m[1]);
+                    if !inside.is_some_and(|(row, col)| tile.core.contains(row, col)) {
+                        continue;
+                    }
+                    cells_end.saturating_add((k as u64).saturating_mul(rpp))
+                }
+            };
+            placed.push((r, first));
+        }
+        let total =
+            cells_end.saturating_add((scenario.release.points.len() as u64).saturating_mul(rpp));
+        let numbering = RockNumbering::placed(placed.iter().map(|(r, f)| (*f, r.rocks)), total);
+        Releases {
+            list: placed.into_iter().map(|(r, _)| r).collect(),
+            numbering,
+        }
+    }
+
+    /// Every release the scenario lists, in release order.
+    fn listed(scenario: &Scenario) -> Vec<Release> {
         let g = *scenario.terrain.dem.geometry();
         let rel = &scenario.release;
         let sim = &scenario.simulation;
@@ -129,7 +176,12 @@ impl Releases {
             orientation_wxyz: pt.orientation_wxyz,
             rocks: sim.rocks_per_point,
         });
-        Releases::new(cells.chain(points).collect())
+        cells.chain(points).collect()
+    }
+
+    /// The rock numbers of every release, as sorted disjoint ranges.
+    pub fn rock_set(&self) -> crate::RockSet {
+        crate::RockSet::from_ranges((0..self.list.len()).map(|k| self.rocks_of(k)))
     }
 
     /// Releases in the given order.
@@ -160,10 +212,11 @@ impl Releases {
 }
 
 /// Global rock numbers over a list of releases: release k owns the consecutive numbers
-/// `first[k] .. first[k] + count[k]`, in release order.
+/// `first[k] .. end[k]`, in release order.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct RockNumbering {
     first: Vec<u64>,
+    end: Vec<u64>,
     total: u64,
 }
 
@@ -171,15 +224,25 @@ impl RockNumbering {
     /// Numbers the rocks of releases with `counts` rocks each.
     pub fn new(counts: impl IntoIterator<Item = u64>) -> RockNumbering {
         let mut total = 0u64;
-        let first = counts
+        let (first, end) = counts
             .into_iter()
             .map(|n| {
                 let f = total;
                 total = total.saturating_add(n);
-                f
+                (f, total)
             })
-            .collect();
-        RockNumbering { first, total }
+            .unzip();
+        RockNumbering { first, end, total }
+    }
+
+    /// Numbers releases that own `(first, count)` numbers each, ascending and disjoint, out of
+    /// `total` (a tile's releases among a region's: the numbers between belong to others).
+    pub fn placed(releases: impl IntoIterator<Item = (u64, u64)>, total: u64) -> RockNumbering {
+        let (first, end) = releases
+            .into_iter()
+            .map(|(f, n)| (f, f.saturating_add(n)))
+            .unzip();
+        RockNumbering { first, end, total }
     }
 
     /// Number of rocks over all releases.
@@ -197,7 +260,7 @@ impl RockNumbering {
     /// The global numbers of release `k`'s rocks (empty for an unknown release).
     pub fn range(&self, k: usize) -> Range<u64> {
         let start = self.first.get(k).copied().unwrap_or(self.total);
-        let end = self.first.get(k + 1).copied().unwrap_or(self.total);
+        let end = self.end.get(k).copied().unwrap_or(self.total);
         start..end.max(start)
     }
 }

@@ -48,7 +48,7 @@ pub use error::ForestError;
 pub use impact_type::ImpactType;
 pub use index::{DEFAULT_BUCKET_SIZE_M, StemHit, StemIndex};
 pub use species::Species;
-pub use stand::{StandCell, StandOptions, expand_stands};
+pub use stand::{StandCell, StandOptions, expand_stands, expand_stands_in};
 pub use stem::{BREAST_HEIGHT_M, Stem};
 
 /// A validated set of stems and their spatial index.

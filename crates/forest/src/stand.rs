@@ -49,7 +49,7 @@
 use std::collections::HashMap;
 
 use rand::RngExt;
-use rockfall_raster::GridGeometry;
+use rockfall_raster::{GridGeometry, Window};
 use rockfall_rng::{Purpose, stream};
 
 use crate::allometry::height_from_dbh_m;
@@ -108,13 +108,29 @@ pub fn expand_stands(
     seed: u64,
     options: &StandOptions,
 ) -> Result<Vec<Stem>, ForestError> {
+    expand_stands_in(geometry, &Window::whole(geometry), cell, seed, options)
+}
+
+/// [`expand_stands`] over the cells of `window` only: each cell's stems are those the whole
+/// grid's expansion gives it (every cell draws from its own stream, keyed by its row-major
+/// index on `geometry`), so a spatial tile of a region gets exactly the region's stems in
+/// its window.
+pub fn expand_stands_in(
+    geometry: &GridGeometry,
+    window: &Window,
+    cell: impl Fn(usize, usize) -> Option<StandCell>,
+    seed: u64,
+    options: &StandOptions,
+) -> Result<Vec<Stem>, ForestError> {
     check_options(options)?;
     check_geometry(geometry)?;
     let half = 0.5 * geometry.cell_size_m;
     let mut dbh_fits: HashMap<(u64, u64), TruncatedNormal> = HashMap::new();
     let mut stems = Vec::new();
-    for row in 0..geometry.nrows {
-        for col in 0..geometry.ncols {
+    let rows = window.row0..(window.row0 + window.nrows).min(geometry.nrows);
+    let cols = window.col0..(window.col0 + window.ncols).min(geometry.ncols);
+    for row in rows {
+        for col in cols.clone() {
             let Some(stand) = cell(row, col) else {
                 continue;
             };

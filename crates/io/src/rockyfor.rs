@@ -162,6 +162,7 @@ pub fn read_folder(dir: &Path) -> Result<Scenario, InputError> {
         nets,
         sources,
         notes,
+        tile: None,
         ..Scenario::new(&name, terrain, rock, release)
     };
     // a folder names no number of rocks: the defaults stand in for them

@@ -210,6 +210,7 @@ impl Resolver {
             output,
             sources: std::mem::take(&mut self.sources),
             notes: std::mem::take(&mut self.notes),
+            tile: None,
         })
     }
 

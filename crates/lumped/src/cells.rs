@@ -73,13 +73,53 @@ pub(crate) enum CellMap {
         /// The DEM's validity, to answer NONE on nodata cells.
         lattice: Lattice,
     },
-    /// `palette[index[cell]]`; `palette[0]` is [`CellParams::NONE`].
+    /// `palette[index[slot]]`; `palette[0]` is [`CellParams::NONE`].
     Palette {
         palette: Vec<CellParams>,
+        /// One entry per cell the DEM holds (its storage slots).
         index: Vec<u16>,
+        slots: Slots,
     },
-    /// One entry per cell (more than [`PALETTE_MAX`] distinct sets).
-    Dense(Vec<CellParams>),
+    /// One entry per cell the DEM holds (more than [`PALETTE_MAX`] distinct sets).
+    Dense(Vec<CellParams>, Slots),
+}
+
+/// Where a cell's entry is: its row-major index on a whole DEM, its slot in the window a
+/// tile's DEM holds.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Slots {
+    whole: bool,
+    ncols: usize,
+    stored: rockfall_raster::Window,
+}
+
+impl Slots {
+    fn of_lattice(lattice: &Lattice) -> Slots {
+        Slots {
+            whole: lattice.holds_whole_grid(),
+            ncols: lattice.geometry().ncols,
+            stored: lattice.stored(),
+        }
+    }
+
+    /// The entry of cell `index` (row-major on the whole grid), `None` for a cell not held.
+    #[inline]
+    fn of(&self, index: usize) -> Option<usize> {
+        if self.whole {
+            return Some(index);
+        }
+        let s = &self.stored;
+        let (row, col) = (index / self.ncols, index % self.ncols);
+        s.contains(row, col)
+            .then(|| (row - s.row0) * s.ncols + col - s.col0)
+    }
+
+    /// The cells held, as (row, col), row-major.
+    fn cells(&self) -> impl Iterator<Item = (usize, usize)> + use<> {
+        let s = self.stored;
+        (s.row0..s.row0 + s.nrows)
+            .flat_map(move |row| (s.col0..s.col0 + s.ncols).map(move |col| (row, col)))
+    }
 }
 
 impl CellMap {
@@ -92,13 +132,16 @@ impl CellMap {
         lattice: &Lattice,
     ) -> Result<CellMap, LumpedError> {
         let g = *lattice.geometry();
+        let slots = Slots::of_lattice(lattice);
         let s = &terrain.surface;
         let constant = nets.is_none()
             && (s.fields().iter()).all(|(_, f)| matches!(f, rockfall_raster::Field::Const(_)));
         if constant {
             // every valid cell reads the same constants: the first one stands for all
-            if let Some(first) = (0..g.len()).find(|&i| lattice.is_valid(i)) {
-                let (row, col) = g.row_col(first);
+            let first = slots
+                .cells()
+                .find(|&(r, c)| lattice.is_valid(g.index(r, c)));
+            if let Some((row, col)) = first {
                 return Ok(CellMap::Uniform {
                     params: cell_params(terrain, nets, row, col)?,
                     lattice: lattice.clone(),
@@ -107,10 +150,10 @@ impl CellMap {
         }
         let mut palette = vec![CellParams::NONE];
         let mut known: HashMap<[u64; 9], u16> = HashMap::from([(CellParams::NONE.key(), 0)]);
-        let mut index: Vec<u16> = Vec::with_capacity(g.len());
+        let mut index: Vec<u16> = Vec::with_capacity(slots.stored.ncols * slots.stored.nrows);
         let mut last: Option<(CellParams, u16)> = None;
-        for row in 0..g.nrows {
-            for col in 0..g.ncols {
+        for (row, col) in slots.cells() {
+            {
                 let i = g.index(row, col);
                 let params = match lattice.is_valid(i) {
                     false => CellParams::NONE,
@@ -134,7 +177,11 @@ impl CellMap {
                 index.push(slot);
             }
         }
-        Ok(CellMap::Palette { palette, index })
+        Ok(CellMap::Palette {
+            palette,
+            index,
+            slots,
+        })
     }
 
     /// Parameters of cell `index` (row-major).
@@ -145,8 +192,18 @@ impl CellMap {
                 true => params,
                 false => &CellParams::NONE,
             },
-            CellMap::Palette { palette, index: i } => &palette[usize::from(i[index])],
-            CellMap::Dense(cells) => &cells[index],
+            CellMap::Palette {
+                palette,
+                index: i,
+                slots,
+            } => match slots.of(index) {
+                Some(s) => &palette[usize::from(i[s])],
+                None => &CellParams::NONE,
+            },
+            CellMap::Dense(cells, slots) => match slots.of(index) {
+                Some(s) => &cells[s],
+                None => &CellParams::NONE,
+            },
         }
     }
 }
@@ -158,16 +215,15 @@ fn dense(
     lattice: &Lattice,
 ) -> Result<CellMap, LumpedError> {
     let g = *lattice.geometry();
-    let mut cells = Vec::with_capacity(g.len());
-    for row in 0..g.nrows {
-        for col in 0..g.ncols {
-            cells.push(match lattice.is_valid(g.index(row, col)) {
-                false => CellParams::NONE,
-                true => cell_params(terrain, nets, row, col)?,
-            });
-        }
+    let slots = Slots::of_lattice(lattice);
+    let mut cells = Vec::with_capacity(slots.stored.ncols * slots.stored.nrows);
+    for (row, col) in slots.cells() {
+        cells.push(match lattice.is_valid(g.index(row, col)) {
+            false => CellParams::NONE,
+            true => cell_params(terrain, nets, row, col)?,
+        });
     }
-    Ok(CellMap::Dense(cells))
+    Ok(CellMap::Dense(cells, slots))
 }
 
 /// Parameters of the valid cell (row, col).

@@ -89,6 +89,46 @@ pub struct Window {
 }
 
 impl Window {
+    /// Every cell of a grid of `geometry`.
+    pub fn whole(geometry: &GridGeometry) -> Window {
+        Window {
+            col0: 0,
+            row0: 0,
+            ncols: geometry.ncols,
+            nrows: geometry.nrows,
+        }
+    }
+
+    /// True when every cell of `other` is one of this window's.
+    pub fn covers(&self, other: &Window) -> bool {
+        other.col0 >= self.col0
+            && other.row0 >= self.row0
+            && other.col0 + other.ncols <= self.col0 + self.ncols
+            && other.row0 + other.nrows <= self.row0 + self.nrows
+    }
+
+    /// True when cell (row, col) lies in the window.
+    #[inline]
+    pub fn contains(&self, row: usize, col: usize) -> bool {
+        row.wrapping_sub(self.row0) < self.nrows && col.wrapping_sub(self.col0) < self.ncols
+    }
+
+    /// The window grown by `cells` on every side, cut to a grid of `ncols × nrows`.
+    pub fn grown(&self, cells: usize, ncols: usize, nrows: usize) -> Window {
+        let (c0, r0) = (
+            self.col0.saturating_sub(cells),
+            self.row0.saturating_sub(cells),
+        );
+        let c1 = (self.col0 + self.ncols).saturating_add(cells).min(ncols);
+        let r1 = (self.row0 + self.nrows).saturating_add(cells).min(nrows);
+        Window {
+            col0: c0,
+            row0: r0,
+            ncols: c1.saturating_sub(c0),
+            nrows: r1.saturating_sub(r0),
+        }
+    }
+
     /// True when the window has cells and lies inside a grid of `ncols × nrows`.
     pub fn fits(&self, ncols: usize, nrows: usize) -> bool {
         self.ncols > 0
@@ -214,9 +254,17 @@ impl GridGeometry {
 ///
 /// Nodata cells hold `T::default()` in `values`; always consult [`Grid::get`] or
 /// [`Grid::is_valid`] rather than reading a nodata cell's value as if it meant something.
+///
+/// A grid may hold only a window of its cells ([`Grid::placed`], [`Grid::stored`]): its
+/// geometry, rows, columns and row-major indices stay those of the whole grid, so that every
+/// position and cell number is computed exactly as on the whole grid, and the cells outside
+/// the window read as nodata. This is how a spatial tile of a region holds its part of each
+/// raster.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grid<T> {
     geometry: GridGeometry,
+    /// The cells held: the whole grid, or a window of it.
+    stored: Window,
     values: Vec<T>,
     valid: Vec<bool>,
     crs: Option<Crs>,
@@ -225,18 +273,23 @@ pub struct Grid<T> {
 
 impl<T: Copy + Default> Grid<T> {
     /// The cells of `window` as a grid of their own (CRS and nodata marker kept); `None`
-    /// when the window does not fit in this grid.
+    /// when the window does not fit in this grid or reaches cells it does not hold.
     pub fn window(&self, window: &Window) -> Option<Grid<T>> {
         let geometry = self.geometry.window(window)?;
-        let n = self.geometry.ncols;
+        let s = self.stored;
+        if !s.covers(window) {
+            return None;
+        }
+        let n = s.ncols;
         let mut values = Vec::with_capacity(window.ncols * window.nrows);
         let mut valid = Vec::with_capacity(window.ncols * window.nrows);
         for row in window.row0..window.row0 + window.nrows {
-            let start = row * n + window.col0;
+            let start = (row - s.row0) * n + window.col0 - s.col0;
             values.extend_from_slice(&self.values[start..start + window.ncols]);
             valid.extend_from_slice(&self.valid[start..start + window.ncols]);
         }
         Some(Grid {
+            stored: Window::whole(&geometry),
             geometry,
             values,
             valid,
@@ -248,6 +301,7 @@ impl<T: Copy + Default> Grid<T> {
     /// A grid with every cell set to `value` and valid.
     pub fn filled(geometry: GridGeometry, value: T) -> Self {
         Grid {
+            stored: Window::whole(&geometry),
             geometry,
             values: vec![value; geometry.len()],
             valid: vec![true; geometry.len()],
@@ -260,6 +314,7 @@ impl<T: Copy + Default> Grid<T> {
     /// geometry.
     pub fn from_values(geometry: GridGeometry, values: Vec<T>) -> Option<Self> {
         (values.len() == geometry.len()).then(|| Grid {
+            stored: Window::whole(&geometry),
             geometry,
             valid: vec![true; values.len()],
             values,
@@ -277,6 +332,7 @@ impl<T: Copy + Default> Grid<T> {
         let valid = cells.iter().map(Option::is_some).collect();
         let values = cells.into_iter().map(Option::unwrap_or_default).collect();
         Some(Grid {
+            stored: Window::whole(&geometry),
             geometry,
             values,
             valid,
@@ -297,6 +353,7 @@ impl<T: Copy + Default> Grid<T> {
             }
         }
         Grid {
+            stored: Window::whole(&geometry),
             geometry,
             values,
             valid,
@@ -309,6 +366,7 @@ impl<T: Copy + Default> Grid<T> {
     pub fn map<U: Copy + Default>(&self, mut f: impl FnMut(T) -> U) -> Grid<U> {
         Grid {
             geometry: self.geometry,
+            stored: self.stored,
             values: self.values.iter().map(|&v| f(v)).collect(),
             valid: self.valid.clone(),
             crs: self.crs.clone(),
@@ -348,20 +406,37 @@ impl<T: Copy + Default> Grid<T> {
         self.nodata_value = value;
     }
 
-    /// Value of cell (row, col), `None` when nodata or out of range.
+    /// Where cell (row, col) is held in [`Grid::values`], `None` when out of range or not
+    /// held.
+    #[inline]
+    pub fn slot(&self, row: usize, col: usize) -> Option<usize> {
+        let s = &self.stored;
+        let (r, c) = (row.wrapping_sub(s.row0), col.wrapping_sub(s.col0));
+        (r < s.nrows && c < s.ncols).then(|| r * s.ncols + c)
+    }
+
+    /// Where the cell of row-major index `index` is held in [`Grid::values`].
+    #[inline]
+    pub fn slot_of_index(&self, index: usize) -> Option<usize> {
+        if self.stored.ncols == self.geometry.ncols && self.stored.row0 == 0 {
+            return (index < self.values.len()).then_some(index);
+        }
+        let (row, col) = self.geometry.row_col(index);
+        self.slot(row, col)
+    }
+
+    /// Value of cell (row, col), `None` when nodata, out of range or not held.
     #[inline]
     pub fn get(&self, row: usize, col: usize) -> Option<T> {
-        if row >= self.geometry.nrows || col >= self.geometry.ncols {
-            return None;
-        }
-        let i = self.geometry.index(row, col);
+        let i = self.slot(row, col)?;
         self.valid[i].then(|| self.values[i])
     }
 
-    /// Value at a row-major index, `None` when nodata or out of range.
+    /// Value at a row-major index, `None` when nodata, out of range or not held.
     #[inline]
     pub fn get_index(&self, index: usize) -> Option<T> {
-        (*self.valid.get(index)?).then(|| self.values[index])
+        let i = self.slot_of_index(index)?;
+        self.valid[i].then(|| self.values[i])
     }
 
     /// Value of the cell containing (x, y), `None` outside the grid or on nodata.
@@ -370,10 +445,10 @@ impl<T: Copy + Default> Grid<T> {
         self.get(row, col)
     }
 
-    /// Sets cell (row, col) to a valid value. Out-of-range cells are ignored.
+    /// Sets cell (row, col) to a valid value. Out-of-range cells, and cells not held, are
+    /// ignored.
     pub fn set(&mut self, row: usize, col: usize, value: T) {
-        if row < self.geometry.nrows && col < self.geometry.ncols {
-            let i = self.geometry.index(row, col);
+        if let Some(i) = self.slot(row, col) {
             self.values[i] = value;
             self.valid[i] = true;
         }
@@ -381,8 +456,7 @@ impl<T: Copy + Default> Grid<T> {
 
     /// Marks cell (row, col) as nodata. Out-of-range cells are ignored.
     pub fn set_nodata(&mut self, row: usize, col: usize) {
-        if row < self.geometry.nrows && col < self.geometry.ncols {
-            let i = self.geometry.index(row, col);
+        if let Some(i) = self.slot(row, col) {
             self.values[i] = T::default();
             self.valid[i] = false;
         }
@@ -394,30 +468,66 @@ impl<T: Copy + Default> Grid<T> {
         self.get(row, col).is_some()
     }
 
-    /// Row-major raw values (nodata cells hold `T::default()`).
+    /// Raw values of the cells held, row-major over [`Grid::stored`] (nodata cells hold
+    /// `T::default()`): the whole grid's unless the grid holds a window.
     pub fn values(&self) -> &[T] {
         &self.values
     }
 
-    /// Row-major validity mask (false = nodata).
+    /// Validity mask of the cells held (false = nodata), as [`Grid::values`].
     pub fn mask(&self) -> &[bool] {
         &self.valid
     }
 
-    /// Number of nodata cells.
+    /// The cells held: the whole grid, or the window it was [`Grid::placed`] at.
+    pub fn stored(&self) -> Window {
+        self.stored
+    }
+
+    /// True when the grid holds every cell of its geometry.
+    pub fn is_whole(&self) -> bool {
+        self.stored == Window::whole(&self.geometry)
+    }
+
+    /// This grid (of `window`'s size: a window read of a raster) as `window` of a grid of
+    /// geometry `whole`: positions, rows, columns and indices become the whole grid's, the
+    /// other cells read as nodata. `None` when the sizes disagree or the window does not fit.
+    pub fn placed(self, whole: GridGeometry, window: Window) -> Option<Grid<T>> {
+        let fits = window.fits(whole.ncols, whole.nrows)
+            && (self.geometry.ncols, self.geometry.nrows) == (window.ncols, window.nrows)
+            && self.is_whole();
+        fits.then_some(Grid {
+            geometry: whole,
+            stored: window,
+            ..self
+        })
+    }
+
+    /// A grid of geometry `whole` holding `window` with every held cell set to `value`.
+    /// `None` when the window does not fit.
+    pub fn filled_window(whole: GridGeometry, window: Window, value: T) -> Option<Grid<T>> {
+        let part = GridGeometry {
+            ncols: window.ncols,
+            nrows: window.nrows,
+            ..whole
+        };
+        Grid::filled(part, value).placed(whole, window)
+    }
+
+    /// Number of nodata cells among those held.
     pub fn nodata_count(&self) -> usize {
         self.valid.iter().filter(|v| !**v).count()
     }
 
-    /// Iterates over valid cells as (row, col, value).
+    /// Iterates over the valid cells held as (row, col, value).
     pub fn iter_valid(&self) -> impl Iterator<Item = (usize, usize, T)> + '_ {
-        let ncols = self.geometry.ncols;
+        let s = self.stored;
         self.values
             .iter()
             .zip(&self.valid)
             .enumerate()
             .filter(|(_, (_, ok))| **ok)
-            .map(move |(i, (v, _))| (i / ncols, i % ncols, *v))
+            .map(move |(i, (v, _))| (s.row0 + i / s.ncols, s.col0 + i % s.ncols, *v))
     }
 }
 
@@ -443,6 +553,48 @@ mod tests {
             y_min_m: 200.0,
             cell_size_m: 2.5,
         }
+    }
+
+    #[test]
+    fn a_placed_window_reads_as_the_whole_grid_inside_and_nodata_outside() {
+        let g = geom();
+        let whole = Grid::from_fn(g, |r, c| (r != 1 || c != 2).then_some((10 * r + c) as f64));
+        let w = Window {
+            col0: 1,
+            row0: 1,
+            ncols: 2,
+            nrows: 2,
+        };
+        let placed = whole.window(&w).unwrap().placed(g, w).unwrap();
+        assert_eq!(*placed.geometry(), g);
+        assert!(!placed.is_whole() && placed.values().len() == 4);
+        for r in 0..g.nrows {
+            for c in 0..g.ncols {
+                let want = w.contains(r, c).then(|| whole.get(r, c)).flatten();
+                assert_eq!(placed.get(r, c), want, "({r}, {c})");
+                assert_eq!(placed.get_index(g.index(r, c)), want);
+                assert_eq!(
+                    placed.value_at(g.cell_center(r, c).0, g.cell_center(r, c).1),
+                    want
+                );
+            }
+        }
+        let valid: Vec<_> = placed.iter_valid().collect();
+        assert_eq!(valid, [(1, 1, 11.0), (2, 1, 21.0), (2, 2, 22.0)]);
+        assert_eq!(placed.nodata_count(), 1);
+        // cut further, and refused beyond what it holds or with the wrong size
+        let inner = Window {
+            col0: 2,
+            row0: 2,
+            ncols: 1,
+            nrows: 1,
+        };
+        assert_eq!(placed.window(&inner).unwrap().get(0, 0), Some(22.0));
+        assert!(placed.window(&Window { col0: 0, ..inner }).is_none());
+        assert!(whole.clone().placed(g, w).is_none());
+        let mut set = placed.clone();
+        set.set(0, 0, 5.0);
+        assert_eq!(set, placed, "a cell not held is not set");
     }
 
     #[test]

@@ -119,6 +119,22 @@ pub struct Layout {
     /// read back from a tally file, whose cells already hold their angles) no new angle is
     /// recorded.
     pub elevation: Elevation,
+    /// For a spatial tile of a region: the cells its rocks may visit. A rock that visits
+    /// another ends as `left_tile`: nothing of it is tallied, and it is listed to be run
+    /// again on a wider halo ([`crate::Tally::left_tile`]).
+    pub trusted: TrustedCells,
+}
+
+/// The cells a tile's rocks may visit (see [`Layout::trusted`]); `None`: every cell. Not part
+/// of a layout's identity (the tiles of one region merge) and never written into a tally
+/// file.
+#[derive(Clone, Copy, Default, Debug)]
+pub struct TrustedCells(pub Option<rockfall_raster::Window>);
+
+impl PartialEq for TrustedCells {
+    fn eq(&self, _: &TrustedCells) -> bool {
+        true
+    }
 }
 
 /// The DEM heights a run's tallies read the energy-line angle from (`EL_angles`). Not part
@@ -167,6 +183,7 @@ impl Layout {
             rock_ends: scenario.output.rocks_csv,
             screen_crossings: scenario.output.screen_crossings,
             elevation: Elevation(Some(dem.shared_grid().clone())),
+            trusted: TrustedCells(scenario.tile.as_ref().map(|t| t.trusted)),
         }
     }
 }

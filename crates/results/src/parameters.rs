@@ -26,6 +26,30 @@ pub enum Parameters {
     Rigid(RigidParameters),
 }
 
+impl Parameters {
+    /// The run's size, when recorded.
+    pub fn size_mut(&mut self) -> Option<&mut RunSize> {
+        match self {
+            Parameters::None => None,
+            Parameters::Lumped(p) => Some(&mut p.size),
+            Parameters::Rigid(p) => Some(&mut p.size),
+        }
+    }
+
+    /// What the spatial tiles of one region's run share: the parameters less the counts of
+    /// each tile's own stems and the first source's rock (lumped), which depend on the tile.
+    pub fn shared_by_tiles(&self) -> Parameters {
+        let mut p = self.clone();
+        if let Some(s) = p.size_mut() {
+            s.stems = 0;
+        }
+        if let Parameters::Lumped(l) = &mut p {
+            (l.rock_mass_kg, l.rock_radius_m) = (None, None);
+        }
+        p
+    }
+}
+
 /// What both engines record of the run's size and limits.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RunSize {

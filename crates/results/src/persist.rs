@@ -179,6 +179,7 @@ impl From<LayoutRecord> for Layout {
             rock_ends: r.rock_ends,
             screen_crossings: r.screen_crossings,
             elevation: Elevation::default(),
+            trusted: Default::default(),
         }
     }
 }

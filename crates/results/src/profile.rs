@@ -175,6 +175,7 @@ mod tests {
             rock_ends: false,
             screen_crossings: false,
             elevation: Default::default(),
+            trusted: Default::default(),
         }
     }
 

@@ -27,6 +27,18 @@ struct Current {
     source_z_m: f64,
     /// Where it started (for its [`RockRecord`]).
     start: RockStart,
+    /// It visited a cell outside a tile's trusted cells ([`Layout::trusted`]).
+    left_tile: bool,
+}
+
+/// An event of a tile's rock, kept until the rock ends without leaving the tile's trusted
+/// cells ([`Layout::trusted`]) and then tallied in the order it came.
+#[derive(Debug, Clone)]
+enum Pending {
+    Visit(usize, CellVisit),
+    Tree(usize, f64, bool),
+    Screen(usize, ScreenCrossing),
+    Row(TrajectoryRow),
 }
 
 /// Per-rock statistics (over ended rocks).
@@ -161,6 +173,12 @@ pub struct Tally {
     pub(crate) rock_records: Vec<RockRecord>,
     /// One record per screen crossing (only when `layout.screen_crossings`).
     pub(crate) crossing_records: Vec<CrossingRecord>,
+    /// A tile's current rock's events, until it ends (see [`Layout::trusted`]).
+    pending: Vec<Pending>,
+    /// True while the pending events are tallied.
+    replaying: bool,
+    /// The rocks that left a tile's trusted cells, in the order they ended.
+    left_tile: Vec<u64>,
 }
 
 impl Tally {
@@ -178,8 +196,35 @@ impl Tally {
             rows: Vec::new(),
             rock_records: Vec::new(),
             crossing_records: Vec::new(),
+            pending: Vec::new(),
+            replaying: false,
+            left_tile: Vec::new(),
             layout,
         }
+    }
+
+    /// True when the current event is to be kept until the rock ends (a tile's rock), and
+    /// not yet tallied. Marks nothing.
+    fn defers(&self) -> bool {
+        self.layout.trusted.0.is_some() && !self.replaying
+    }
+
+    /// Keeps an event of a tile's rock until it ends; nothing once the rock has left.
+    fn defer(&mut self, event: Pending) {
+        if self.current.is_some_and(|c| !c.left_tile) {
+            self.pending.push(event);
+        }
+    }
+
+    /// The rocks that left a tile's trusted cells ([`Layout::trusted`]): nothing of them is
+    /// in the tally, nor counted in [`Tally::rocks`]; a run on a wider halo simulates them.
+    pub fn left_tile(&self) -> &[u64] {
+        &self.left_tile
+    }
+
+    /// Takes the list of [`Tally::left_tile`], leaving it empty.
+    pub fn take_left_tile(&mut self) -> Vec<u64> {
+        std::mem::take(&mut self.left_tile)
     }
 
     /// The layout this tally was made for.
@@ -203,7 +248,9 @@ impl Tally {
                 .at(start.source_cell)
                 .unwrap_or(f64::NAN),
             start,
+            left_tile: false,
         });
+        self.pending.clear();
     }
 
     fn active(&self) -> Option<Current> {
@@ -221,6 +268,12 @@ impl Tally {
 
     /// Records one trajectory state of the current rock; a no-op unless [`Tally::records`].
     pub fn record(&mut self, row: TrajectoryRow) {
+        if self.defers() {
+            if self.records() {
+                self.defer(Pending::Row(row));
+            }
+            return;
+        }
         if let Some(c) = self.current.as_mut().filter(|c| c.records) {
             self.rows.push((c.rock_id, c.seq, row));
             c.seq += 1;
@@ -230,6 +283,18 @@ impl Tally {
     /// The current rock visited `cell` (row-major index); `visit` holds its maxima while
     /// there. Report every cell the rock is in, the release and the final cell included.
     pub fn cell_visit(&mut self, cell: usize, visit: CellVisit) {
+        if let (Some(trusted), false) = (self.layout.trusted.0, self.replaying) {
+            let (row, col) = self.layout.geometry.row_col(cell);
+            match trusted.contains(row, col) {
+                true => self.defer(Pending::Visit(cell, visit)),
+                false => {
+                    if let Some(c) = self.current.as_mut() {
+                        c.left_tile = true;
+                    }
+                }
+            }
+            return;
+        }
         if let Some(c) = self.active() {
             let g = &self.layout.geometry;
             let (row, col) = g.row_col(cell);
@@ -250,6 +315,9 @@ impl Tally {
     /// The current rock hit a tree standing in `cell` at `impact_height_m` above the ground
     /// (m); `stem_broken` when the stem broke.
     pub fn tree_impact(&mut self, cell: usize, impact_height_m: f64, stem_broken: bool) {
+        if self.defers() {
+            return self.defer(Pending::Tree(cell, impact_height_m, stem_broken));
+        }
         if self.active().is_some() {
             self.cells.tree_impact(cell, impact_height_m, stem_broken);
         }
@@ -257,6 +325,9 @@ impl Tally {
 
     /// The current rock crossed screen number `screen` (index in `layout.screens`).
     pub fn screen_crossing(&mut self, screen: usize, crossing: ScreenCrossing) {
+        if self.defers() {
+            return self.defer(Pending::Screen(screen, crossing));
+        }
         if let Some(c) = self.active()
             && let Some(s) = self.screens.get_mut(screen)
         {
@@ -280,6 +351,9 @@ impl Tally {
     /// kept (release position from [`Tally::begin_rock`], `end` as given).
     pub fn end_rock(&mut self, end: RockEnd) {
         debug_assert!(self.current.is_some(), "end_rock without begin_rock");
+        if self.layout.trusted.0.is_some() && !self.tally_pending() {
+            return;
+        }
         let current = self.current.take();
         if let (Some(c), Outcome::Stopped { cell }) = (&current, end.outcome)
             && c.start.source_cell == cell
@@ -317,6 +391,35 @@ impl Tally {
         }
     }
 
+    /// A tile's rock ends: its kept events are tallied, in the order they came, when it never
+    /// left the tile's trusted cells (true); else they are dropped and the rock is listed in
+    /// [`Tally::left_tile`] (false).
+    fn tally_pending(&mut self) -> bool {
+        let Some(c) = self.current else {
+            return false;
+        };
+        let pending = std::mem::take(&mut self.pending);
+        if c.left_tile {
+            self.left_tile.push(c.rock_id);
+            self.current = None;
+            return false;
+        }
+        self.replaying = true;
+        for event in &pending {
+            match *event {
+                Pending::Visit(cell, visit) => self.cell_visit(cell, visit),
+                Pending::Tree(cell, h, broken) => self.tree_impact(cell, h, broken),
+                Pending::Screen(k, crossing) => self.screen_crossing(k, crossing),
+                Pending::Row(row) => self.record(row),
+            }
+        }
+        self.replaying = false;
+        // the buffer keeps its capacity for the next rock
+        self.pending = pending;
+        self.pending.clear();
+        true
+    }
+
     /// Adds everything `other` (a tally of the same layout, with no rock in progress)
     /// accumulated. Exact: any merge order gives bit-identical results.
     pub fn merge(&mut self, other: Tally) {
@@ -329,6 +432,7 @@ impl Tally {
         self.rows.extend(other.rows);
         self.rock_records.extend(other.rock_records);
         self.crossing_records.extend(other.crossing_records);
+        self.left_tile.extend(other.left_tile);
     }
 
     /// Rocks ended so far.

@@ -20,6 +20,7 @@ mod params;
 mod release;
 pub mod rock;
 mod summary;
+pub mod tile;
 mod validate;
 mod validate_settings;
 pub mod volume;
@@ -158,6 +159,30 @@ pub struct Scenario {
     pub sources: BTreeMap<String, PathBuf>,
     /// Remarks from reading (e.g. ignored files).
     pub notes: Vec<String>,
+    /// When this is one spatial tile of a region's run: which part of the region it is and
+    /// where its releases stand in the region's; its grids then hold only the tile's window
+    /// (see [`rockfall_raster::Grid::stored`]).
+    pub tile: Option<Box<TileFrame>>,
+}
+
+/// One spatial tile of a region's run (`rockfall run --tile`): the tile's own cells, the
+/// cells its rocks may cross, and where its releases stand among the region's, so that its
+/// rocks are numbered, seeded and simulated exactly as in the run of the whole region.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TileFrame {
+    /// The tile's own cells: the source cells and release points released by this tile.
+    pub core: rockfall_raster::Window,
+    /// The cells every raster holds: the core and its halo, cut to the region.
+    pub window: rockfall_raster::Window,
+    /// The cells a rock may visit and still be simulated exactly as on the whole region:
+    /// the window less a margin on every side that is not the region's edge. A rock that
+    /// visits a cell outside ends as `left_tile` and is simulated again on a wider halo.
+    pub trusted: rockfall_raster::Window,
+    /// Source cells of the whole region.
+    pub region_source_cells: u64,
+    /// For each of `release.cells` (the core's source cells), its number among the region's
+    /// source cells in row-major order.
+    pub ordinals: Vec<u64>,
 }
 
 impl Scenario {
@@ -181,6 +206,7 @@ impl Scenario {
             output: OutputSettings::default(),
             sources: BTreeMap::new(),
             notes: Vec::new(),
+            tile: None,
         }
     }
 
@@ -190,8 +216,9 @@ impl Scenario {
         let stems = match &self.forest {
             None => Vec::new(),
             Some(ForestSpec::Stems(s)) => s.clone(),
-            Some(ForestSpec::Stands(st)) => rockfall_forest::expand_stands(
+            Some(ForestSpec::Stands(st)) => rockfall_forest::expand_stands_in(
                 self.terrain.dem.geometry(),
+                &self.terrain.dem.grid().stored(),
                 |r, c| st.cell(r, c),
                 self.seed,
                 &st.options,

@@ -27,6 +27,7 @@ mod observe;
 pub mod parameters;
 mod rock;
 pub mod share;
+pub mod tile;
 
 pub use batches::{BatchState, CHECKPOINTS, FIRST_BATCH, Finished, per_release};
 pub use observe::{Observer, Quiet};

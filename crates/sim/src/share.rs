@@ -126,6 +126,40 @@ impl RunRecord {
         }
     }
 
+    /// The record of spatial tile `spec` of a region's run, complete: it holds `rocks` of the
+    /// region's `region_rocks`; `fingerprint` is the region's ([`tile_fingerprint`]).
+    pub fn of_tile(
+        scenario: &Scenario,
+        input: &str,
+        fingerprint: String,
+        rocks: &RockSet,
+        region_rocks: u64,
+        spec: &crate::tile::TileSpec,
+    ) -> RunRecord {
+        let held = ranges(rocks);
+        RunRecord {
+            rockfall_version: env!("CARGO_PKG_VERSION").to_string(),
+            input: input.to_string(),
+            fingerprint,
+            engine: scenario.engine.to_string(),
+            scenario: scenario.name.clone(),
+            seed: scenario.seed,
+            rocks_per_cell: scenario.simulation.rocks_per_cell,
+            rocks_per_point: scenario.simulation.rocks_per_point,
+            rocks_total: region_rocks,
+            rocks: held.clone(),
+            partition: Some(format!("tile {spec}")),
+            complete: true,
+            batch: BatchState {
+                wanted: held,
+                batches: 1,
+                until_stable_pct: None,
+                history: Vec::new(),
+                converged: false,
+            },
+        }
+    }
+
     /// The record of share `p` of the run.
     pub fn with_partition(mut self, p: Partition) -> RunRecord {
         self.batch.wanted = ranges(&p.rocks(self.rocks_total));
@@ -195,6 +229,52 @@ pub fn fingerprint(scenario: &Scenario) -> String {
         s.output,
     );
     format!("{:016x}", h.0)
+}
+
+/// The fingerprint of a region's run as its spatial tiles record it (`tiles-` and 16 hex
+/// digits): the same for every tile and for the whole run, whose grids and release cells
+/// differ from a tile's. FNV-1a over the parts of [`fingerprint`] other than the grids,
+/// release cells and stands, the DEM's grid, and the bytes of every file the scenario was
+/// read from (in the order of their keys).
+pub fn tile_fingerprint(scenario: &Scenario) -> std::io::Result<String> {
+    use std::fmt::Write;
+    use std::io::Read;
+    let s = scenario;
+    let mut h = Fnv1a::default();
+    let r = &s.release;
+    let _ = write!(
+        h,
+        "{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
+        s.name,
+        s.engine,
+        s.seed,
+        s.terrain.dem.geometry(),
+        s.rock,
+        r.cell_height_m,
+        r.cell_velocity_ms,
+        r.points,
+        s.screens,
+        s.lumped,
+        s.rigid,
+        s.contact,
+        s.simulation,
+        s.output,
+        s.forest.is_some(),
+        s.nets.is_some(),
+    );
+    let mut buf = vec![0u8; 1 << 20];
+    for (key, path) in &s.sources {
+        let _ = write!(h, "|{key}");
+        let mut f = std::fs::File::open(path)?;
+        loop {
+            let n = f.read(&mut buf)?;
+            if n == 0 {
+                break;
+            }
+            h.bytes(&buf[..n]);
+        }
+    }
+    Ok(format!("tiles-{:016x}", h.0))
 }
 
 /// Why saved tallies cannot be merged. Each names the folders or files at fault.
@@ -291,7 +371,8 @@ fn show(r: &[Range<u64>]) -> String {
 /// single run's tally.
 pub fn merge(parts: Vec<(PathBuf, SavedTally<RunRecord>)>) -> Result<Merged, MergeError> {
     let mut parts = parts;
-    parts.sort_by_key(|(_, s)| s.run.rocks.first().map_or(0, |r| r[0]));
+    // by first rock; a tile without rocks (no source cell in it) last: it ran no engine
+    parts.sort_by_key(|(_, s)| s.run.rocks.first().map_or((true, 0), |r| (false, r[0])));
     let (first_path, first) = parts.first().ok_or(MergeError::Empty)?;
     let (first_path, record, layout) =
         (first_path.clone(), first.run.clone(), first.layout.clone());
@@ -317,6 +398,15 @@ pub fn merge(parts: Vec<(PathBuf, SavedTally<RunRecord>)>) -> Result<Merged, Mer
     }
     check_cover(&parts, record.rocks_total)?;
     let mut info = first.info.clone();
+    if record.fingerprint.starts_with("tiles-") {
+        // each tile counted the stems of its own cells
+        let stems = (parts.iter())
+            .filter_map(|(_, s)| s.info.parameters.clone().size_mut().map(|z| z.stems))
+            .sum();
+        if let Some(size) = info.parameters.size_mut() {
+            size.stems = stems;
+        }
+    }
     info.threads = parts.iter().map(|(_, s)| s.info.threads).max().unwrap_or(1);
     info.wall_time_s = parts.iter().map(|(_, s)| s.info.wall_time_s).sum();
     let mut tally = Tally::new(layout);
@@ -365,7 +455,18 @@ fn check_same(
         let g = |l: &Layout| format!("{:?}", l.geometry);
         return Err(different("grids or screens", g(layout), g(&s.layout)));
     }
-    if info.parameters != s.info.parameters {
+    let tiles = |r: &RunRecord| r.fingerprint.starts_with("tiles-");
+    if tiles(&s.run) && s.run.rocks.is_empty() {
+        return Ok(());
+    }
+    let (pa, pb) = match tiles(ra) && tiles(&s.run) {
+        true => (
+            info.parameters.shared_by_tiles(),
+            s.info.parameters.shared_by_tiles(),
+        ),
+        false => (info.parameters.clone(), s.info.parameters.clone()),
+    };
+    if pa != pb {
         return Err(different(
             "engine parameters",
             "one set".into(),

@@ -167,6 +167,7 @@ pub fn build() -> Result<Scenario, SiteError> {
         output: OutputSettings::default(),
         sources: BTreeMap::new(),
         notes: Vec::new(),
+        tile: None,
     })
 }
 

@@ -434,6 +434,7 @@ fn build_rows(site: Site, nrows: usize, u: &Unknowns) -> Result<Scenario, SiteEr
         output: OutputSettings::default(),
         sources: BTreeMap::new(),
         notes: Vec::new(),
+        tile: None,
     })
 }
 

@@ -71,7 +71,7 @@ impl Dem {
                 nrows: g.nrows,
             });
         }
-        if grid.nodata_count() == g.len() {
+        if grid.nodata_count() == grid.values().len() {
             return Err(TerrainError::NoData);
         }
         Ok(Dem {

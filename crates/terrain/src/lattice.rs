@@ -29,6 +29,9 @@ pub struct Lattice {
     grid: Arc<Grid<f64>>,
     /// True when every cell holds data: the mask need not be read.
     all_valid: bool,
+    /// True when the grid holds every cell (not a tile's window of a region): indices are
+    /// storage slots.
+    whole: bool,
 }
 
 impl Lattice {
@@ -44,14 +47,28 @@ impl Lattice {
             y0: geometry.y_min_m + 0.5 * h,
             grid: Arc::clone(dem.shared_grid()),
             all_valid: dem.grid().nodata_count() == 0,
+            whole: dem.grid().is_whole(),
         }
     }
 
-    /// Height of the cell at row-major index `k` (row 0 north), NaN for nodata.
+    /// Height of the cell at row-major index `k` (row 0 north), NaN for nodata or a cell the
+    /// grid does not hold (outside a tile's window).
     #[inline]
     fn z(&self, k: usize) -> f64 {
-        let z = self.grid.values()[k];
-        if self.all_valid || self.grid.mask()[k] {
+        if self.whole {
+            return self.z_slot(k);
+        }
+        match self.grid.slot_of_index(k) {
+            Some(s) => self.z_slot(s),
+            None => f64::NAN,
+        }
+    }
+
+    /// Height held at storage slot `s`, NaN for nodata.
+    #[inline]
+    fn z_slot(&self, s: usize) -> f64 {
+        let z = self.grid.values()[s];
+        if self.all_valid || self.grid.mask()[s] {
             z
         } else {
             f64::NAN
@@ -67,10 +84,24 @@ impl Lattice {
     /// True when cell `index` (row-major, row 0 north) holds data.
     #[inline]
     pub fn is_valid(&self, index: usize) -> bool {
+        if !self.whole {
+            return self.z(index).is_finite();
+        }
         match self.all_valid {
             true => index < self.geometry.len(),
             false => self.grid.mask().get(index).copied().unwrap_or(false),
         }
+    }
+
+    /// True when the DEM holds every cell of its grid (not a tile's window of a region).
+    #[inline]
+    pub fn holds_whole_grid(&self) -> bool {
+        self.whole
+    }
+
+    /// The cells the DEM holds (see [`rockfall_raster::Grid::stored`]).
+    pub fn stored(&self) -> rockfall_raster::Window {
+        self.grid.stored()
     }
 
     /// The DEM's grid.
@@ -136,9 +167,25 @@ impl Lattice {
         }
         // (i, j) and (i + 1, j) on one grid row, (i, j + 1) and (i + 1, j + 1) on the row
         // north of it
-        let k = self.north_index(i as usize, j as usize);
-        let kn = k - n as usize;
-        let (z00, z10, z01, z11) = (self.z(k), self.z(k + 1), self.z(kn), self.z(kn + 1));
+        // on a window, the storage slots of the same corners, when all four are held
+        let (k, n) = match self.whole {
+            true => (self.north_index(i as usize, j as usize), n as usize),
+            false => {
+                let row = self.geometry.nrows - 1 - j as usize;
+                let s = self.grid.stored();
+                if !(s.contains(row - 1, i as usize) && s.contains(row, i as usize + 1)) {
+                    return None;
+                }
+                (self.grid.slot(row, i as usize)?, s.ncols)
+            }
+        };
+        let kn = k - n;
+        let (z00, z10, z01, z11) = (
+            self.z_slot(k),
+            self.z_slot(k + 1),
+            self.z_slot(kn),
+            self.z_slot(kn + 1),
+        );
         let c = (z00 - z10 - z01 + z11, z00 + z10 + z01 + z11);
         c.1.is_finite().then_some((z00, z10 - z00, z01 - z00, c.0))
     }

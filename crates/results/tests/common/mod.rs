@@ -44,6 +44,7 @@ pub fn layout() -> Arc<Layout> {
         rock_ends: false,
         screen_crossings: false,
         elevation: Default::default(),
+        trusted: Default::default(),
     })
 }
 

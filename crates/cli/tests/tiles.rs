@@ -1,0 +1,154 @@
+//! Spatial tiles end to end: the tiles of a region, each run on its own halo (with rocks
+//! that leave it run again on a wider one), merged into the single run's files byte for
+//! byte; and the bad tile flags (exit 2, naming what is wrong).
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+mod common;
+
+use common::{bad_input, json, ok, rockfall, s, same_outputs};
+use std::path::{Path, PathBuf};
+
+/// A 200 × 200-cell alpine-region (5 m cells) in a fresh folder: (tempdir, scenario file).
+fn region() -> (tempfile::TempDir, PathBuf) {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("region");
+    ok(rockfall(&[
+        "site",
+        "alpine-region",
+        "--cells",
+        "40000",
+        "--seed",
+        "5",
+        "--out",
+        s(&dir),
+    ]));
+    (tmp, dir.join("scenario.toml"))
+}
+
+fn run_tile(scenario: &Path, tile: &str, halo_m: &str, threads: &str, out: &Path) -> String {
+    ok(rockfall(&[
+        "run",
+        s(scenario),
+        "--rocks-per-cell",
+        "2",
+        "--threads",
+        threads,
+        "--tile",
+        tile,
+        "--halo-m",
+        halo_m,
+        "--out",
+        s(out),
+    ]))
+}
+
+#[test]
+fn tiles_merge_into_the_single_run_byte_for_byte() {
+    let (tmp, scenario) = region();
+    let single = tmp.path().join("single");
+    ok(rockfall(&[
+        "run",
+        s(&scenario),
+        "--rocks-per-cell",
+        "2",
+        "--out",
+        s(&single),
+    ]));
+    let mut dirs = Vec::new();
+    let (mut rocks, mut reruns) = (0, 0);
+    for i in 1..=4 {
+        let dir = tmp.path().join(format!("tile{i}"));
+        // a 60 m halo: rocks leave it and are run again on 120 m, 240 m …
+        let printed = run_tile(&scenario, &format!("{i}/4"), "60", ["1", "2"][i % 2], &dir);
+        assert!(printed.contains(&format!("(tile {i}/4)")), "{printed}");
+        let report = json(&dir.join("tile.json"));
+        rocks += report["rocks"].as_u64().unwrap();
+        let passes = report["passes"].as_array().unwrap();
+        reruns += passes.len() - 1;
+        let last = passes.last().unwrap();
+        assert_eq!(last["left_tile"].as_u64(), Some(0), "{report}");
+        dirs.push(dir);
+    }
+    let whole = json(&single.join("summary.json"));
+    assert_eq!(
+        Some(rocks),
+        whole["rocks"].as_u64(),
+        "each rock in one tile"
+    );
+    assert!(
+        reruns > 0,
+        "no rock left its tile: the reruns are not exercised"
+    );
+    let merged = tmp.path().join("merged");
+    let mut args = vec!["merge"];
+    args.extend(dirs.iter().map(|d| s(d)));
+    args.extend(["--out", s(&merged)]);
+    ok(rockfall(&args));
+    same_outputs(&single, &merged);
+}
+
+#[test]
+fn bad_tile_flags_and_incomplete_tiles_exit_2() {
+    let (tmp, scenario) = region();
+    let out = tmp.path().join("out");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "run",
+            s(&scenario),
+            "--rocks-per-cell",
+            "1",
+            "--out",
+            s(&out),
+        ];
+        args.extend(extra);
+        rockfall(&args)
+    };
+    // a 1 km grid in 500 m squares is 4 tiles
+    bad_input(
+        run(&["--tile", "1/3", "--tile-size-m", "500"]),
+        &[
+            "cuts this 200 × 200-cell grid into 4 tiles",
+            "give --tile i/4",
+        ],
+    );
+    bad_input(
+        run(&["--tile", "1/4", "--halo-m", "10"]),
+        &["--halo-m 10", "at least 25 m"],
+    );
+    bad_input(run(&["--tile", "5/4"]), &["a partition is i/N"]);
+    bad_input(
+        run(&["--tile", "1/4", "--partition", "1/2"]),
+        &["cannot be used with"],
+    );
+    bad_input(run(&["--halo-m", "100"]), &["--tile"]);
+    assert!(!out.exists(), "nothing written by a refused run");
+    // three of four tiles do not make the region
+    let mut dirs = Vec::new();
+    for i in 1..=3 {
+        let dir = tmp.path().join(format!("t{i}"));
+        run_tile(&scenario, &format!("{i}/4"), "500", "2", &dir);
+        dirs.push(dir);
+    }
+    let mut args = vec!["merge"];
+    args.extend(dirs.iter().map(|d| s(d)));
+    let merged = tmp.path().join("merged");
+    args.extend(["--out", s(&merged)]);
+    bad_input(rockfall(&args), &["are in none of the folders", "tile 1/4"]);
+    // a tile of another seed is another run
+    let other = tmp.path().join("other");
+    ok(rockfall(&[
+        "run",
+        s(&scenario),
+        "--rocks-per-cell",
+        "2",
+        "--seed",
+        "9",
+        "--tile",
+        "4/4",
+        "--out",
+        s(&other),
+    ]));
+    args.insert(args.len() - 2, s(&other));
+    bad_input(rockfall(&args), &["not parts of one run", "seed"]);
+}
