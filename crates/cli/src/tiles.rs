@@ -43,8 +43,6 @@ pub fn run(
 ) -> Result<(), Failure> {
     let whole = rockfall_io::load(input)?;
     let region = *whole.terrain.dem.geometry();
-    let fingerprint = share::tile_fingerprint(&whole)
-        .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", input.display())))?;
     let load = |core, window| {
         let mut s = whole.clone();
         s.cut_to_tile(core, window)
@@ -55,6 +53,9 @@ pub fn run(
     let run = run_tile(&region, spec, overrides, &load, &console)
         .map_err(|e| simulate::sim_failure(e, input))?;
     drop(whole);
+    // of the scenario as simulated (overrides applied), as `merge` computes it to reload it
+    let fingerprint = share::tile_fingerprint(&run.scenario)
+        .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", input.display())))?;
     let internal =
         |e: &dyn std::fmt::Display, p: &Path| Failure::Internal(anyhow!("{}: {e}", p.display()));
     std::fs::create_dir_all(out).map_err(|e| internal(&e, out))?;

@@ -84,8 +84,32 @@ fn tiles_merge_into_the_single_run_byte_for_byte() {
     let mut args = vec!["merge"];
     args.extend(dirs.iter().map(|d| s(d)));
     args.extend(["--out", s(&merged)]);
-    ok(rockfall(&args));
+    let printed = ok(rockfall(&args));
     same_outputs(&single, &merged);
+    // the merge read the region's input back (fingerprint of the tiles = of the region)
+    assert!(merged.join("report.html").exists(), "{printed}");
+    // and so does a merge of shares of a scenario that names no rocks per point
+    let mut parts = vec!["merge".to_string()];
+    for i in 1..=2 {
+        let dir = tmp.path().join(format!("share{i}"));
+        ok(rockfall(&[
+            "run",
+            s(&scenario),
+            "--rocks-per-cell",
+            "1",
+            "--partition",
+            &format!("{i}/2"),
+            "--out",
+            s(&dir),
+        ]));
+        parts.push(s(&dir).to_string());
+    }
+    let shares = tmp.path().join("shares");
+    parts.extend(["--out".to_string(), s(&shares).to_string()]);
+    let printed = ok(rockfall(
+        &parts.iter().map(String::as_str).collect::<Vec<_>>(),
+    ));
+    assert!(shares.join("report.html").exists(), "{printed}");
 }
 
 #[test]

@@ -225,10 +225,21 @@ pub fn fingerprint(scenario: &Scenario) -> String {
         s.lumped,
         s.rigid,
         s.contact,
-        s.simulation,
+        settled(&s.simulation),
         s.output,
     );
     format!("{:016x}", h.0)
+}
+
+/// The settings as simulated: whether a number of rocks was given or defaulted shapes
+/// nothing once the caps are applied, and a run read back from its record has every number
+/// given.
+fn settled(s: &rockfall_scenario::SimulationSettings) -> rockfall_scenario::SimulationSettings {
+    rockfall_scenario::SimulationSettings {
+        rocks_per_cell_given: true,
+        rocks_per_point_given: true,
+        ..s.clone()
+    }
 }
 
 /// The fingerprint of a region's run as its spatial tiles record it (`tiles-` and 16 hex
@@ -257,7 +268,7 @@ pub fn tile_fingerprint(scenario: &Scenario) -> std::io::Result<String> {
         s.lumped,
         s.rigid,
         s.contact,
-        s.simulation,
+        settled(&s.simulation),
         s.output,
         s.forest.is_some(),
         s.nets.is_some(),
