@@ -8,6 +8,7 @@ use anyhow::anyhow;
 use rockfall_results::{TALLY_FILE, write_tally};
 use rockfall_sim::tile::{TilePass, TileRun, TileSpec, run_tile};
 use rockfall_sim::{Overrides, RunRecord, SimError, share};
+
 use serde::Serialize;
 use std::path::Path;
 
@@ -41,18 +42,26 @@ pub fn run(
     spec: &TileSpec,
     out: &Path,
 ) -> Result<(), Failure> {
-    let whole = rockfall_io::load(input)?;
-    let region = *whole.terrain.dem.geometry();
+    let region = rockfall_io::region_geometry(input)?;
+    let failed = std::cell::RefCell::new(None);
     let load = |core, window| {
-        let mut s = whole.clone();
-        s.cut_to_tile(core, window)
-            .map_err(|source| SimError::Scenario { file: None, source })?;
-        Ok(s)
+        rockfall_io::load_tile(input, core, window).map_err(|e| {
+            let message = e.to_string();
+            failed.replace(Some(e));
+            SimError::Engine {
+                file: None,
+                message,
+            }
+        })
     };
     let console = Console::default();
-    let run = run_tile(&region, spec, overrides, &load, &console)
-        .map_err(|e| simulate::sim_failure(e, input))?;
-    drop(whole);
+    let run = run_tile(&region, spec, overrides, &load, &console).map_err(|e| {
+        match failed.take() {
+            // the input's own error, with its file and exit code
+            Some(e) => Failure::from(e),
+            None => simulate::sim_failure(e, input),
+        }
+    })?;
     // of the scenario as simulated (overrides applied), as `merge` computes it to reload it
     let fingerprint = share::tile_fingerprint(&run.scenario)
         .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", input.display())))?;

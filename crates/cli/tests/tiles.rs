@@ -113,6 +113,34 @@ fn tiles_merge_into_the_single_run_byte_for_byte() {
 }
 
 #[test]
+fn tiles_of_a_rockyfor3d_folder_with_a_tree_list_merge_into_the_single_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let site = tmp.path().join("site2");
+    ok(rockfall(&["site", "vaujany-site2", "--out", s(&site)]));
+    let single = tmp.path().join("single");
+    let run = |extra: &[&str], out: &Path| {
+        let mut args = vec!["run", s(&site), "--rocks-per-cell", "40", "--out", s(out)];
+        args.extend(extra);
+        ok(rockfall(&args))
+    };
+    run(&[], &single);
+    // three bands: the source cell in one, stems in all (each counts those of its cells)
+    let dirs: Vec<PathBuf> = (1..=3)
+        .map(|i| {
+            let dir = tmp.path().join(format!("t{i}"));
+            run(&["--tile", &format!("{i}/3"), "--halo-m", "100"], &dir);
+            dir
+        })
+        .collect();
+    let merged = tmp.path().join("merged");
+    let mut args = vec!["merge"];
+    args.extend(dirs.iter().map(|d| s(d)));
+    args.extend(["--out", s(&merged)]);
+    ok(rockfall(&args));
+    same_outputs(&single, &merged);
+}
+
+#[test]
 fn bad_tile_flags_and_incomplete_tiles_exit_2() {
     let (tmp, scenario) = region();
     let out = tmp.path().join("out");

@@ -40,6 +40,39 @@ pub fn load(path: &Path) -> Result<Scenario, InputError> {
     if path.is_dir() {
         return rockyfor::read_folder(path);
     }
+    load_kind(path)?;
+    scenario_file::read_scenario(path)
+}
+
+/// The region's grid: the grid of the DEM `path` (a scenario file or a Rockyfor3D folder)
+/// names, from its header where it can (a Rockyfor3D folder is read whole).
+pub fn region_geometry(path: &Path) -> Result<rockfall_raster::GridGeometry, InputError> {
+    if path.is_dir() || !path.exists() {
+        return Ok(*load(path)?.terrain.dem.geometry());
+    }
+    scenario_file::read_dem_geometry(path)
+}
+
+/// [`load`] as the spatial tile of its region released from the cells of `core`, its grids
+/// holding `window` (see [`rockfall_scenario::Scenario::tile`]): a scenario file's rasters
+/// are read over the window only; a Rockyfor3D folder (ASCII grids) is read whole and cut.
+pub fn load_tile(
+    path: &Path,
+    core: rockfall_raster::Window,
+    window: rockfall_raster::Window,
+) -> Result<Scenario, InputError> {
+    if path.is_dir() {
+        let mut s = rockyfor::read_folder(path)?;
+        s.cut_to_tile(core, window)
+            .map_err(|e| scenario_error(e, &s.sources, path))?;
+        return Ok(s);
+    }
+    load_kind(path)?;
+    scenario_file::read_scenario_tile(path, core, window)
+}
+
+/// Checks that `path` is a scenario file (the errors of [`load`] otherwise).
+fn load_kind(path: &Path) -> Result<(), InputError> {
     if !path.exists() {
         return Err(InputError::Missing {
             path: path.to_path_buf(),
@@ -47,7 +80,7 @@ pub fn load(path: &Path) -> Result<Scenario, InputError> {
         });
     }
     match path.extension().and_then(|e| e.to_str()) {
-        Some(e) if e.eq_ignore_ascii_case("toml") => scenario_file::read_scenario(path),
+        Some(e) if e.eq_ignore_ascii_case("toml") => Ok(()),
         _ => Err(InputError::invalid(
             path,
             "not a scenario file (*.toml) nor a Rockyfor3D input folder",

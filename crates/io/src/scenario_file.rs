@@ -5,7 +5,9 @@ use crate::vector::inputs::{self, Frame, Outside};
 use crate::vector::{self as vec_io, is_vector_path};
 use crate::{InputError, scenario_error, trees};
 use rockfall_forest::StandOptions;
-use rockfall_raster::{Crs, Field, Grid, read_grid};
+use rockfall_raster::{
+    Crs, Field, Grid, GridGeometry, Window, read_geometry, read_grid, read_grid_window,
+};
 use rockfall_scenario::{
     Engine, ForestSpec, LumpedSettings, Nets, OutputSettings, RigidParams, Scenario, Screen,
     SimulationSettings, Stands,
@@ -35,13 +37,66 @@ pub fn read_scenario(path: &Path) -> Result<Scenario, InputError> {
     parse_scenario(&text, path)
 }
 
+/// Reads and validates a scenario file as the spatial tile of its region released from the
+/// cells of `core`: every raster is read over `window` only (the core and its halo; a
+/// GeoTIFF decodes only the tiles or strips it touches), the release raster is scanned for
+/// the numbers of the core's source cells among the region's, and vector layers are burnt
+/// on the region's grid and cut to the window. See [`Scenario::tile`].
+pub fn read_scenario_tile(
+    path: &Path,
+    core: Window,
+    window: Window,
+) -> Result<Scenario, InputError> {
+    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
+    parse(
+        &text,
+        path,
+        Some(TileRead {
+            core,
+            window,
+            found: None,
+        }),
+    )
+}
+
+/// The grid of the DEM a scenario file names, read from the DEM's header.
+pub fn read_dem_geometry(path: &Path) -> Result<GridGeometry, InputError> {
+    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
+    let file = parse_toml(&text, path)?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let dem = base.join(&file.terrain.dem);
+    if !dem.is_file() {
+        return Err(InputError::Missing {
+            path: dem,
+            what: format!("raster for `dem` (named in {})", path.display()),
+        });
+    }
+    Ok(rockfall_raster::read_geometry(&dem)?.0)
+}
+
+fn parse_toml(text: &str, path: &Path) -> Result<schema::File, InputError> {
+    toml::from_str(text).map_err(|e| InputError::Toml {
+        path: path.to_path_buf(),
+        message: e.to_string().trim_end().to_string(),
+    })
+}
+
+/// A tile's windows while its scenario is read, and what the release scan found: the
+/// region's source cells and the numbers of the core's among them.
+struct TileRead {
+    core: Window,
+    window: Window,
+    found: Option<(u64, Vec<u64>)>,
+}
+
 /// [`read_scenario`] on a scenario file's text already read: `path` names it in errors and
 /// its folder is where the files it names are found.
 pub fn parse_scenario(text: &str, path: &Path) -> Result<Scenario, InputError> {
-    let file: schema::File = toml::from_str(text).map_err(|e| InputError::Toml {
-        path: path.to_path_buf(),
-        message: e.to_string().trim_end().to_string(),
-    })?;
+    parse(text, path, None)
+}
+
+fn parse(text: &str, path: &Path, tile: Option<TileRead>) -> Result<Scenario, InputError> {
+    let file = parse_toml(text, path)?;
     let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let mut r = Resolver {
         base,
@@ -50,8 +105,19 @@ pub fn parse_scenario(text: &str, path: &Path) -> Result<Scenario, InputError> {
         frame: None,
         notes: Vec::new(),
         layers: BTreeMap::new(),
+        tile,
     };
-    let scenario = r.build(file, path)?;
+    let mut scenario = r.build(file, path)?;
+    if let Some(t) = r.tile.take() {
+        let (region_source_cells, ordinals) = t.found.unwrap_or_default();
+        scenario.tile = Some(Box::new(rockfall_scenario::TileFrame {
+            core: t.core,
+            window: t.window,
+            trusted: t.window,
+            region_source_cells,
+            ordinals,
+        }));
+    }
     scenario
         .validate()
         .map_err(|e| scenario_error(e, &scenario.sources, path))?;
@@ -72,6 +138,8 @@ struct Resolver {
     /// Vector layers read so far, by (file, layer asked for): a layer that gives several
     /// keys (a stand layer's attributes) is read and checked once.
     layers: BTreeMap<(PathBuf, Option<String>), Rc<vec_io::Layer>>,
+    /// Reading one spatial tile of the region: its windows.
+    tile: Option<TileRead>,
 }
 
 /// What a per-cell key burnt from polygons takes outside every polygon: its default, except
@@ -92,7 +160,9 @@ impl Resolver {
         self.base.join(p)
     }
 
-    fn grid(&mut self, param: &str, p: &str) -> Result<Grid<f64>, InputError> {
+    /// The path of the raster named `p` for `param`, recorded as its source; a missing file
+    /// is an error naming the scenario file.
+    fn raster_path(&mut self, param: &str, p: &str) -> Result<PathBuf, InputError> {
         let path = self.path(p);
         self.sources.insert(param.into(), path.clone());
         if !path.is_file() {
@@ -101,7 +171,30 @@ impl Resolver {
                 what: format!("raster for `{param}` (named in {})", self.file.display()),
             });
         }
-        Ok(read_grid(&path)?)
+        Ok(path)
+    }
+
+    fn grid(&mut self, param: &str, p: &str) -> Result<Grid<f64>, InputError> {
+        let path = self.raster_path(param, p)?;
+        let Some(window) = self.tile.as_ref().map(|t| t.window) else {
+            return Ok(read_grid(&path)?);
+        };
+        let (whole, _) = read_geometry(&path)?;
+        if !window.fits(whole.ncols, whole.nrows) {
+            // not the DEM's grid: read whole, for the usual check to name the mismatch
+            return Ok(read_grid(&path)?);
+        }
+        let part = read_grid_window(&path, &window)?;
+        part.placed(whole, window)
+            .ok_or_else(|| InputError::invalid(&path, "the tile's window does not fit"))
+    }
+
+    /// A grid burnt on the region's grid, cut to a tile's window when reading one.
+    fn fit(&self, grid: Grid<f64>) -> Grid<f64> {
+        match &self.tile {
+            Some(t) => rockfall_scenario::tile::cut_grid(&grid, &t.window).unwrap_or(grid),
+            None => grid,
+        }
     }
 
     fn field(&mut self, param: &str, p: Option<Param>, default: f64) -> Result<Field, InputError> {
@@ -116,7 +209,7 @@ impl Resolver {
                     inputs::field_grid(&layer, &v.field, &frame, outside(param, default), param)?;
                 self.notes
                     .push(inputs::describe(param, &layer, cells, "cells covered"));
-                Ok(Field::Grid(grid))
+                Ok(Field::Grid(self.fit(grid)))
             }
         }
     }
@@ -357,9 +450,9 @@ impl Resolver {
                 }
                 let [number, energy_kj, height_m] = inputs::net_grids(&lines, &frame);
                 let nets = Nets {
-                    number: Field::Grid(number),
-                    energy_kj: Field::Grid(energy_kj),
-                    height_m: Field::Grid(height_m),
+                    number: Field::Grid(self.fit(number)),
+                    energy_kj: Field::Grid(self.fit(energy_kj)),
+                    height_m: Field::Grid(self.fit(height_m)),
                 };
                 (nets, Some(lines))
             }

@@ -5,7 +5,7 @@
 use rockfall_raster::{Field, Grid, Window};
 use rockfall_terrain::Dem;
 
-use crate::{ForestSpec, Scenario, ScenarioError, TileFrame};
+use crate::{ForestSpec, RockShape, Scenario, ScenarioError, TileFrame};
 
 /// `grid` holding `window` only (its geometry, rows and indices unchanged); a grid already
 /// held as a window is cut further. `None` when the grid does not hold all of `window`.
@@ -54,7 +54,7 @@ impl Scenario {
         Ok(())
     }
 
-    /// Cuts every grid of the scenario (DEM, surface, stands, nets) to `window`.
+    /// Cuts every grid of the scenario (DEM, surface, rock, stands, nets) to `window`.
     pub fn restrict_grids(&mut self, window: &Window) -> Result<(), ScenarioError> {
         let dem = cut_grid(self.terrain.dem.grid(), window).ok_or_else(outside)?;
         self.terrain.dem = Dem::new(dem).map_err(|e| ScenarioError::Invalid {
@@ -85,6 +85,13 @@ impl Scenario {
             ] {
                 cut_field(f, window)?;
             }
+        }
+        let rock = &mut self.rock;
+        for f in rock.dims_m.iter_mut().chain([&mut rock.density_kg_m3]) {
+            cut_field(f, window)?;
+        }
+        if let RockShape::PerCell(f) = &mut rock.shape {
+            cut_field(f, window)?;
         }
         if let Some(n) = &mut self.nets {
             for f in [&mut n.number, &mut n.energy_kj, &mut n.height_m] {

@@ -103,7 +103,9 @@ impl Scenario {
 
     fn check_release(&self, dem: &GridGeometry) -> Check {
         let rel = &self.release;
-        if rel.is_empty() {
+        // a tile of a region may hold no source cell of its own
+        let region_has = (self.tile.as_ref()).is_some_and(|t| t.region_source_cells > 0);
+        if rel.is_empty() && !region_has {
             return Err(ScenarioError::NoRelease {
                 hint: "give source cells (rockdensity > 0) or [[release.points]]".into(),
             });
@@ -143,6 +145,13 @@ impl Scenario {
         finite3("release.velocity_ms", rel.cell_velocity_ms)?;
         for (k, p) in rel.points.iter().enumerate() {
             let name = format!("release.points[{k}]");
+            // a point of another tile of the region is that tile's to check
+            let cell = dem.cell_of(p.x_m, p.y_m);
+            if let (Some(t), Some((row, col))) = (&self.tile, cell)
+                && !t.core.contains(row, col)
+            {
+                continue;
+            }
             if !(p.x_m.is_finite() && p.y_m.is_finite() && self.terrain.dem.contains(p.x_m, p.y_m))
             {
                 return Err(ScenarioError::invalid(

@@ -231,6 +231,30 @@ pub fn fingerprint(scenario: &Scenario) -> String {
     format!("{:016x}", h.0)
 }
 
+/// The rock's settings with each per-cell raster replaced by a mark (its values are in the
+/// files hashed beside it, and a tile holds only its window of them).
+fn rock_without_grids(rock: &rockfall_scenario::RockSpec) -> String {
+    use rockfall_raster::Field;
+    let f = |f: &Field| match f {
+        Field::Const(v) => format!("{v:?}"),
+        Field::Grid(g) => format!("grid {:?}", g.geometry()),
+    };
+    let shape = match &rock.shape {
+        rockfall_scenario::RockShape::PerCell(g) => f(g),
+        other => format!("{other:?}"),
+    };
+    format!(
+        "{shape}|{}|{}|{}|{}|{:?}|{:?}|{:?}",
+        f(&rock.dims_m[0]),
+        f(&rock.dims_m[1]),
+        f(&rock.dims_m[2]),
+        f(&rock.density_kg_m3),
+        rock.volume_m3,
+        rock.volume_variation_percent,
+        rock.volume_distribution,
+    )
+}
+
 /// The settings as simulated: whether a number of rocks was given or defaulted shapes
 /// nothing once the caps are applied, and a run read back from its record has every number
 /// given.
@@ -260,7 +284,7 @@ pub fn tile_fingerprint(scenario: &Scenario) -> std::io::Result<String> {
         s.engine,
         s.seed,
         s.terrain.dem.geometry(),
-        s.rock,
+        rock_without_grids(&s.rock),
         r.cell_height_m,
         r.cell_velocity_ms,
         r.points,
@@ -382,7 +406,8 @@ fn show(r: &[Range<u64>]) -> String {
 /// single run's tally.
 pub fn merge(parts: Vec<(PathBuf, SavedTally<RunRecord>)>) -> Result<Merged, MergeError> {
     let mut parts = parts;
-    // by first rock; a tile without rocks (no source cell in it) last: it ran no engine
+    // by first rock, a tile without rocks (no source cell in it) last: the first part holds
+    // rock 0, whose parameters (the first source's rock) the whole run records
     parts.sort_by_key(|(_, s)| s.run.rocks.first().map_or((true, 0), |r| (false, r[0])));
     let (first_path, first) = parts.first().ok_or(MergeError::Empty)?;
     let (first_path, record, layout) =
@@ -467,9 +492,6 @@ fn check_same(
         return Err(different("grids or screens", g(layout), g(&s.layout)));
     }
     let tiles = |r: &RunRecord| r.fingerprint.starts_with("tiles-");
-    if tiles(&s.run) && s.run.rocks.is_empty() {
-        return Ok(());
-    }
     let (pa, pb) = match tiles(ra) && tiles(&s.run) {
         true => (
             info.parameters.shared_by_tiles(),

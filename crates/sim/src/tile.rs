@@ -267,18 +267,16 @@ pub fn run_tile(
         let releases = Releases::of(&scenario);
         let all = releases.rock_set();
         let rocks = todo.take().unwrap_or_else(|| all.clone());
-        let (mut tally, mut info) = if releases.list().is_empty() {
-            let layout = std::sync::Arc::new(rockfall_results::Layout::of(&scenario));
-            (Tally::new(layout), RunInfo::default())
-        } else {
+        let (mut tally, mut info) = {
+            // a tile without a source cell of its own runs no rock, but counts its stems
             let sim = Simulation::new(scenario.clone(), overrides)?;
             let label = format!("tile {spec}, halo {} m", halo as f64 * region.cell_size_m);
             let mut out = sim.run_rocks(&rocks, &label, observer)?;
-            // the region's source cells; the stems of the tile's own cells (summed by the merge)
-            let in_core = |s: &&rockfall_forest::Stem| {
-                region
-                    .cell_of(s.x_m, s.y_m)
-                    .is_some_and(|(r, c)| core.contains(r, c))
+            // the region's source cells; the stems of the tile's own cells, and for tile 1 those
+            // off the grid too, so that the merge's sum counts each stem of the region once
+            let in_core = |s: &&rockfall_forest::Stem| match region.cell_of(s.x_m, s.y_m) {
+                Some((r, c)) => core.contains(r, c),
+                None => spec.index == 1,
             };
             let stems = sim.forest().stems().iter().filter(in_core).count();
             let region_cells = scenario.tile.as_ref().map_or(0, |t| t.region_source_cells);
