@@ -92,20 +92,26 @@ pub enum Command {
         /// bit-identical to the same rocks in a run of the whole region. Writes the tile's
         /// exact tallies (rockfall.tally) and tile.json for `rockfall merge`; the grid is cut
         /// into N near-square tiles, or into squares of --tile-size-m.
-        #[arg(long, value_name = "i/N", value_parser = parse_partition, conflicts_with_all = ["partition", "until_stable"])]
+        #[arg(long, value_name = "i/N", value_parser = parse_partition, conflicts_with_all = ["partition", "until_stable"], group = "tiling")]
         tile: Option<rockfall_sim::Partition>,
-        /// Side of the square tiles, m (with --tile; N must then be the number of tiles this
-        /// size makes, which the error states).
-        #[arg(long, value_name = "D", requires = "tile", value_parser = parse_positive_m)]
+        /// Run every one of N spatial tiles of the region, one after the other (under
+        /// `mpirun`, spread over the ranks and merged up a reduction tree), and write the
+        /// region's run folder: the single run's files, byte for byte, from one tile's
+        /// memory at a time plus the region's statistics.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..), conflicts_with_all = ["partition", "until_stable"], group = "tiling")]
+        tiles: Option<u64>,
+        /// Side of the square tiles, m (with --tile or --tiles; N must then be the number of
+        /// tiles this size makes, which the error states).
+        #[arg(long, value_name = "D", requires = "tiling", value_parser = parse_positive_m)]
         tile_size_m: Option<f64>,
-        /// Halo read around a tile, m (with --tile; default 1000). A rock that goes farther
-        /// is simulated again on a halo twice as wide.
-        #[arg(long, value_name = "H", requires = "tile", value_parser = parse_positive_m)]
+        /// Halo read around a tile, m (with --tile or --tiles; default 1000). A rock that
+        /// goes farther is simulated again on a halo twice as wide.
+        #[arg(long, value_name = "H", requires = "tiling", value_parser = parse_positive_m)]
         halo_m: Option<f64>,
         /// Continue the interrupted run whose output folder is DIR (its checkpoint.tally),
         /// with the input, seed and rocks it started with; ends bit-identical to an
         /// uninterrupted run.
-        #[arg(long, value_name = "DIR", conflicts_with_all = ["engine", "rocks_per_cell", "rocks_per_point", "seed", "partition", "until_stable", "tile"])]
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["engine", "rocks_per_cell", "rocks_per_point", "seed", "partition", "until_stable", "tile", "tiles"])]
         resume: Option<PathBuf>,
     },
     /// Merge the run folders of the shares of one run (`rockfall run --partition i/N`, all N

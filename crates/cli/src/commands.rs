@@ -53,6 +53,7 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             partition,
             until_stable,
             tile,
+            tiles,
             tile_size_m,
             halo_m,
             resume,
@@ -80,14 +81,21 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
                 threads: threads.map(|n| n as usize),
                 until_stable_pct: until_stable,
             };
+            let spec = |index, count| rockfall_sim::tile::TileSpec {
+                index,
+                count,
+                size_m: tile_size_m,
+                halo_m: halo_m.unwrap_or(rockfall_sim::tile::DEFAULT_HALO_M),
+            };
             if let Some(t) = tile {
-                let spec = rockfall_sim::tile::TileSpec {
-                    index: t.index,
-                    count: t.count,
-                    size_m: tile_size_m,
-                    halo_m: halo_m.unwrap_or(rockfall_sim::tile::DEFAULT_HALO_M),
-                };
-                return crate::tiles::run(&input, &overrides, &spec, &out);
+                return crate::tiles::run(&input, &overrides, &spec(t.index, t.count), &out);
+            }
+            if let Some(n) = tiles {
+                #[cfg(feature = "mpi")]
+                if crate::mpi_run::launched() {
+                    return crate::mpi_tiles::run(&input, &overrides, &spec(1, n), &out, ascii);
+                }
+                return crate::tiles::run_all(&input, &overrides, &spec(1, n), &out, ascii);
             }
             #[cfg(feature = "mpi")]
             if crate::mpi_run::launched() {

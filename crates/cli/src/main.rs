@@ -8,6 +8,8 @@ mod hazard;
 mod lab;
 #[cfg(feature = "mpi")]
 mod mpi_run;
+#[cfg(feature = "mpi")]
+mod mpi_tiles;
 mod regional;
 mod schema;
 mod simulate;

@@ -31,7 +31,7 @@ pub fn launched() -> bool {
 }
 
 /// Status codes exchanged between ranks: 0 ok, 1 internal failure, 2 bad input.
-fn code(f: &Failure) -> i32 {
+pub(crate) fn code(f: &Failure) -> i32 {
     match f {
         Failure::BadInput(_) => 2,
         Failure::Internal(_) | Failure::Rank(_) => 1,
@@ -116,7 +116,7 @@ const QUIET_EXIT: u8 = 0;
 /// Every rank says whether it failed (`failure`); rank 0 prints the failures and broadcasts
 /// the verdict. Returns the failure to exit with: rank 0's own or the first rank's, printed
 /// once by rank 0 (other ranks exit quietly, [`QUIET_EXIT`]).
-fn agree(world: &SimpleCommunicator, failure: Option<&Failure>) -> Result<(), Failure> {
+pub(crate) fn agree(world: &SimpleCommunicator, failure: Option<&Failure>) -> Result<(), Failure> {
     let status = failure.map_or(0, code);
     let message = failure.map(Failure::text).unwrap_or_default();
     let ranks = gather(world, status, message.as_bytes(), &[]);

@@ -109,3 +109,61 @@ fn a_bad_input_is_reported_once_by_rank_0_with_exit_2() {
     };
     assert_eq!(code, Some(2), "{stderr}");
 }
+
+#[test]
+fn two_ranks_of_tiles_write_the_one_process_run_byte_for_byte() {
+    let tmp = tempfile::tempdir().unwrap();
+    let region = tmp.path().join("region");
+    ok(rockfall(&[
+        "site",
+        "alpine-region",
+        "--cells",
+        "40000",
+        "--seed",
+        "5",
+        "--out",
+        s(&region),
+    ]));
+    let scenario = region.join("scenario.toml");
+    let (one, two) = (tmp.path().join("one"), tmp.path().join("two"));
+    let common = ["--rocks-per-cell", "2", "--threads", "1"];
+    let mut a1 = vec!["run", s(&scenario), "--out", s(&one)];
+    a1.extend(common);
+    ok(rockfall(&a1));
+    // three tiles over two ranks (rank 0 folds two), merged up the tree; a 60 m halo
+    // makes rocks leave their tiles and run again
+    let mut a2 = vec![
+        "run",
+        s(&scenario),
+        "--out",
+        s(&two),
+        "--tiles",
+        "3",
+        "--halo-m",
+        "60",
+    ];
+    a2.extend(common);
+    let Some((code, stdout, stderr)) = mpirun(2, &a2) else {
+        return;
+    };
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    assert!(stdout.contains("2 MPI ranks, 3 tiles"), "{stdout}");
+    assert!(
+        stdout.contains("(run again on a halo twice as wide)"),
+        "{stdout}"
+    );
+    common::same_outputs(&one, &two);
+    // a bad tiling is reported once, by rank 0, with exit 2
+    let mut a3 = vec!["run", s(&scenario), "--tiles", "3", "--tile-size-m", "700"];
+    let bad = tmp.path().join("bad");
+    a3.extend(["--out", s(&bad)]);
+    let Some((code, _, stderr)) = mpirun(2, &a3) else {
+        return;
+    };
+    assert_eq!(code, Some(2), "{stderr}");
+    assert_eq!(
+        stderr.matches("give --tile i/4 or --tiles 4").count(),
+        1,
+        "{stderr}"
+    );
+}

@@ -86,6 +86,22 @@ fn tiles_merge_into_the_single_run_byte_for_byte() {
     args.extend(["--out", s(&merged)]);
     let printed = ok(rockfall(&args));
     same_outputs(&single, &merged);
+    // every tile in one process, folded as they finish: the same files
+    let all = tmp.path().join("all");
+    let run_all = ok(rockfall(&[
+        "run",
+        s(&scenario),
+        "--rocks-per-cell",
+        "2",
+        "--tiles",
+        "4",
+        "--halo-m",
+        "60",
+        "--out",
+        s(&all),
+    ]));
+    assert_eq!(run_all.matches("pass 1: halo 60 m").count(), 4, "{run_all}");
+    same_outputs(&single, &all);
     // the merge read the region's input back (fingerprint of the tiles = of the region)
     assert!(merged.join("report.html").exists(), "{printed}");
     // and so does a merge of shares of a scenario that names no rocks per point

@@ -25,6 +25,7 @@
 mod batches;
 mod observe;
 pub mod parameters;
+pub mod reduce;
 mod rock;
 pub mod share;
 pub mod tile;

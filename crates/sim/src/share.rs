@@ -467,7 +467,7 @@ pub fn merge(parts: Vec<(PathBuf, SavedTally<RunRecord>)>) -> Result<Merged, Mer
     })
 }
 
-fn check_same(
+pub(crate) fn check_same(
     a: &std::path::Path,
     ra: &RunRecord,
     layout: &Layout,

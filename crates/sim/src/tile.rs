@@ -56,7 +56,7 @@ pub enum TileError {
     /// `--tile-size-m` makes another number of tiles than `--tile i/N` says.
     #[error(
         "--tile-size-m {size_m} cuts this {ncols} × {nrows}-cell grid into {tiles} tiles \
-         ({across} × {down}): give --tile i/{tiles}"
+         ({across} × {down}): give --tile i/{tiles} or --tiles {tiles}"
     )]
     Count {
         /// Tile side, m.
