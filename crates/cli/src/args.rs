@@ -97,8 +97,9 @@ pub enum Command {
         /// Run every one of N spatial tiles of the region, one after the other (under
         /// `mpirun`, spread over the ranks and merged up a reduction tree), and write the
         /// region's run folder: the single run's files, byte for byte, from one tile's
-        /// memory at a time plus the region's statistics.
-        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..), conflicts_with_all = ["partition", "until_stable"], group = "tiling")]
+        /// memory at a time plus the region's statistics. With --until-stable, batch after
+        /// batch over every tile, deciding on the region's maps.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..), conflicts_with = "partition", group = "tiling")]
         tiles: Option<u64>,
         /// Side of the square tiles, m (with --tile or --tiles; N must then be the number of
         /// tiles this size makes, which the error states).

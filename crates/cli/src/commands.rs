@@ -91,6 +91,9 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
                 return crate::tiles::run(&input, &overrides, &spec(t.index, t.count), &out);
             }
             if let Some(n) = tiles {
+                if let Some(tol) = until_stable {
+                    println!("until stable within {tol} %, over {n} tiles");
+                }
                 #[cfg(feature = "mpi")]
                 if crate::mpi_run::launched() {
                     return crate::mpi_tiles::run(&input, &overrides, &spec(1, n), &out, ascii);
@@ -101,8 +104,8 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             if crate::mpi_run::launched() {
                 if partition.is_some() || until_stable.is_some() {
                     return Err(Failure::BadInput(anyhow!(
-                        "under mpirun the ranks are the partitions: run without --partition \
-                         and --until-stable"
+                        "under mpirun the ranks are the partitions: run without --partition; \
+                         --until-stable runs over tiles (--tiles N)"
                     )));
                 }
                 return crate::mpi_run::run(&input, &overrides, &out, ascii);

@@ -48,7 +48,7 @@ pub fn run(input: &Path, overrides: &Overrides, out: &Path, ascii: bool) -> Resu
         match sim.scenario().simulation.until_stable_pct {
             Some(_) => Err(Failure::BadInput(anyhow!(
                 "{}: until_stable_pct: under mpirun the ranks share a fixed set of rocks; run \
-                 convergence in one process",
+                 convergence over tiles (--tiles N) or in one process",
                 input.display()
             ))),
             None => Ok(sim),

@@ -12,12 +12,13 @@
 use crate::Failure;
 use crate::mpi_run::{agree, code};
 use crate::simulate::Console;
-use crate::tiles::{tile_part, write_region};
+use crate::tiles::{TiledRun, own_tiles};
 use anyhow::anyhow;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use rockfall_results::{decode_tally, encode_tally};
 use rockfall_sim::reduce::{Part, combine};
+
 use rockfall_sim::tile::TileSpec;
 use rockfall_sim::{Observer, Overrides, Quiet, RunRecord};
 use std::path::{Path, PathBuf};
@@ -49,42 +50,55 @@ pub fn run(
     agree(&world, checked.as_ref().err())?;
     let console = Console::default();
     let observer: &dyn Observer = if rank == 0 { &console } else { &Quiet };
-    let mine = own_tiles(input, overrides, spec, rank, size, observer)
-        .map_err(|f| (code(&f), format!("rank {rank}: {}", f.text())));
-    match reduce(&world, mine) {
-        // sent up the tree: a failure is rank 0's to report, so this rank exits 0
-        None => Ok(()),
-        Some(Ok(Some(part))) => {
-            println!("{size} MPI ranks, {} tiles", spec.count);
-            write_region(input, overrides, part, out, ascii)
+    let tiles: Vec<u64> = (rank as u64 + 1..=spec.count)
+        .step_by(size.max(1) as usize)
+        .collect();
+    // rank 0 keeps the run and decides after every batch; the others follow its verdict
+    let mut run = TiledRun::default();
+    let mut range = run.next_batch();
+    while let Some(r) = range {
+        let mine = own_tiles(input, overrides, spec, &tiles, r, observer)
+            .map_err(|f| (code(&f), format!("rank {rank}: {}", f.text())));
+        // 0: next batch from .. to; 1: over; 2: failed (rank 0 reports)
+        let mut verdict: [u64; 3] = [1, 0, 0];
+        let mut failure = None;
+        if let Some(held) = reduce(&world, mine) {
+            verdict = match held {
+                Ok(Some(batch)) => match run.add(batch) {
+                    Ok(false) => run.next_batch().map_or([1, 0, 0], |(a, b)| [0, a, b]),
+                    Ok(true) => [1, 0, 0],
+                    Err(f) => {
+                        failure = Some(f);
+                        [2, 0, 0]
+                    }
+                },
+                Ok(None) => [1, 0, 0],
+                Err((c, message)) => {
+                    failure = Some(match c {
+                        2 => Failure::BadInput(anyhow!(message)),
+                        _ => Failure::Internal(anyhow!(message)),
+                    });
+                    [2, 0, 0]
+                }
+            };
         }
-        Some(Ok(None)) => Err(Failure::Internal(anyhow!("no rank ran a tile"))),
-        Some(Err((c, message))) => Err(match c {
-            2 => Failure::BadInput(anyhow!(message)),
-            _ => Failure::Internal(anyhow!(message)),
-        }),
+        world.process_at_rank(0).broadcast_into(&mut verdict[..]);
+        match verdict[0] {
+            0 => range = Some((verdict[1], verdict[2])),
+            _ => {
+                if let Some(f) = failure {
+                    return Err(f);
+                }
+                range = None;
+            }
+        }
     }
-}
-
-/// The tiles of rank `rank` of `size`, folded into one part.
-fn own_tiles(
-    input: &Path,
-    overrides: &Overrides,
-    spec: &TileSpec,
-    rank: i32,
-    size: i32,
-    observer: &dyn Observer,
-) -> Result<Option<Part>, Failure> {
-    let mut acc: Option<Part> = None;
-    let step = size.max(1) as usize;
-    for index in (rank as u64 + 1..=spec.count).step_by(step) {
-        let part = tile_part(input, overrides, &TileSpec { index, ..*spec }, observer)?;
-        acc = Some(match acc {
-            None => part,
-            Some(a) => combine(a, part).map_err(|e| Failure::Internal(e.into()))?,
-        });
+    if rank != 0 {
+        // a failure is rank 0's to report, so this rank exits 0
+        return Ok(());
     }
-    Ok(acc)
+    println!("{size} MPI ranks, {} tiles", spec.count);
+    run.write(input, overrides, out, ascii)
 }
 
 /// Collective: the ranks' holdings merged up the reduction tree; rank 0 gets the result, the

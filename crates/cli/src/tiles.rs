@@ -6,9 +6,13 @@ use crate::Failure;
 use crate::simulate::{self, Console};
 use anyhow::anyhow;
 use rockfall_results::{SavedTally, TALLY_FILE, write_tally};
-use rockfall_sim::reduce::{Part, combine};
-use rockfall_sim::tile::{TilePass, TileRun, TileSpec, run_tile};
-use rockfall_sim::{Finished, Observer, Overrides, RunRecord, SimError, share};
+use rockfall_sim::converge::Convergence;
+use rockfall_sim::reduce::{Part, accumulate, combine};
+use rockfall_sim::tile::{SelectRocks, TilePass, TileRun, TileSpec, run_tile};
+use rockfall_sim::{
+    Finished, Observer, Overrides, RunRecord, SimError, batch_rocks, convergence_summary,
+    per_release, share,
+};
 
 use serde::Serialize;
 use std::path::Path;
@@ -43,7 +47,7 @@ pub fn run(
     spec: &TileSpec,
     out: &Path,
 ) -> Result<(), Failure> {
-    let (run, record) = simulate_tile(input, overrides, spec, &Console::default())?;
+    let (run, record) = simulate_tile(input, overrides, spec, None, &Console::default())?;
     let internal =
         |e: &dyn std::fmt::Display, p: &Path| Failure::Internal(anyhow!("{}: {e}", p.display()));
     std::fs::create_dir_all(out).map_err(|e| internal(&e, out))?;
@@ -63,7 +67,8 @@ pub fn run(
 }
 
 /// `--tiles N`: every tile of the region in turn, folded into one part as they finish, then
-/// the region's run folder written from it.
+/// the region's run folder written from it. A convergence run (`--until-stable`) does so
+/// batch after batch, deciding on the region's merged maps after each.
 pub fn run_all(
     input: &Path,
     overrides: &Overrides,
@@ -72,27 +77,145 @@ pub fn run_all(
     ascii: bool,
 ) -> Result<(), Failure> {
     let console = Console::default();
+    let mut run = TiledRun::default();
+    while let Some(range) = run.next_batch() {
+        let tiles: Vec<u64> = (1..=spec.count).collect();
+        let batch = own_tiles(input, overrides, spec, &tiles, range, &console)?;
+        let Some(batch) = batch else { break };
+        if run.add(batch)? {
+            break;
+        }
+    }
+    run.write(input, overrides, out, ascii)
+}
+
+/// The tiles `tiles` of the region, each run on the rocks of indices `range` of its
+/// releases (a batch of a convergence run; all its rocks otherwise), folded into one part.
+pub fn own_tiles(
+    input: &Path,
+    overrides: &Overrides,
+    spec: &TileSpec,
+    tiles: &[u64],
+    range: (u64, u64),
+    observer: &dyn Observer,
+) -> Result<Option<Part>, Failure> {
     let mut acc: Option<Part> = None;
-    for index in 1..=spec.count {
+    for &index in tiles {
         let spec = TileSpec { index, ..*spec };
-        let part = tile_part(input, overrides, &spec, &console)?;
+        let part = tile_part(input, overrides, &spec, range, observer)?;
         acc = Some(match acc {
             None => part,
             Some(a) => combine(a, part).map_err(|e| Failure::Internal(e.into()))?,
         });
     }
-    let part = acc.ok_or_else(|| Failure::BadInput(anyhow!("--tiles: no tile")))?;
-    write_region(input, overrides, part, out, ascii)
+    Ok(acc)
 }
 
-/// Tile `spec` run and printed, as a part of the region's run.
+/// A region's run over tiles, batch after batch: the merged part so far and, for a
+/// convergence run, where it stands.
+#[derive(Default)]
+pub struct TiledRun {
+    part: Option<Part>,
+    convergence: Option<Convergence>,
+    over: bool,
+}
+
+impl TiledRun {
+    /// The rock indices of every release in the next batch (the first: those of a
+    /// convergence run's first batch, or all of a run without a tolerance); `None` when the
+    /// run is over.
+    pub fn next_batch(&self) -> Option<(u64, u64)> {
+        match (&self.convergence, self.over) {
+            (_, true) => None,
+            (None, false) => Some((0, per_release(1))),
+            (Some(c), false) => c.next(),
+        }
+    }
+
+    /// Adds a batch (every tile's part of it, merged); true when the run is over.
+    pub fn add(&mut self, batch: Part) -> Result<bool, Failure> {
+        let internal = |e: rockfall_sim::MergeError| Failure::Internal(e.into());
+        let Some(tol) = batch.1.run.batch.until_stable_pct else {
+            // no tolerance: the tiles ran all their rocks
+            self.part = Some(batch);
+            self.over = true;
+            return Ok(true);
+        };
+        if batch.1.tally.rocks() == 0 && self.part.is_some() {
+            // every release at its cap
+            self.over = true;
+            return Ok(true);
+        }
+        let part = match self.part.take() {
+            None => batch,
+            Some(run) => accumulate(run, batch).map_err(internal)?,
+        };
+        let c = self
+            .convergence
+            .get_or_insert_with(|| Convergence::new(tol));
+        c.batch_done(&part.1.tally);
+        self.part = Some(part);
+        self.over = c.next().is_none();
+        Ok(self.over)
+    }
+
+    /// Writes the region's run folder into `out`, with the region's input read whole for
+    /// the report.
+    pub fn write(
+        self,
+        input: &Path,
+        overrides: &Overrides,
+        out: &Path,
+        ascii: bool,
+    ) -> Result<(), Failure> {
+        let part = (self.part).ok_or_else(|| Failure::BadInput(anyhow!("--tiles: no tile")))?;
+        let sim = crate::commands::load_simulation(input, overrides)?;
+        let finished = match self.convergence {
+            None => {
+                let merged = share::merge(vec![part]).map_err(|e| Failure::Internal(e.into()))?;
+                Finished {
+                    tally: merged.tally,
+                    info: merged.info,
+                    record: merged.record,
+                    convergence: None,
+                }
+            }
+            Some(c) => {
+                let (_, saved) = part;
+                let mut record = saved.run;
+                record.batch = c.state(record.rocks.clone());
+                (record.partition, record.complete) = (None, true);
+                let tol = record.batch.until_stable_pct.unwrap_or_default();
+                let summary = convergence_summary(&record, &saved.tally, tol, &sim);
+                Finished {
+                    tally: saved.tally,
+                    info: saved.info,
+                    record,
+                    convergence: Some(summary),
+                }
+            }
+        };
+        crate::regional::write_run_folder(&sim, input, out, ascii, finished)
+    }
+}
+
+/// Tile `spec` run on the rocks of indices `range` of its releases when the scenario has a
+/// tolerance (a batch), on all its rocks otherwise; printed, as a part of the region's run.
 pub fn tile_part(
     input: &Path,
     overrides: &Overrides,
     spec: &TileSpec,
+    range: (u64, u64),
     observer: &dyn Observer,
 ) -> Result<Part, Failure> {
-    let (run, record) = simulate_tile(input, overrides, spec, observer)?;
+    let select = |s: &rockfall_scenario::Scenario, r: &rockfall_sim::Releases| match s
+        .simulation
+        .until_stable_pct
+    {
+        Some(_) => batch_rocks(r, range.0, range.1),
+        None => r.rock_set(),
+    };
+    let (run, record) = simulate_tile(input, overrides, spec, Some(&select), observer)?;
     print(&run.scenario.name, &report(spec, &run));
     let name = std::path::PathBuf::from(format!("tile {spec}"));
     let saved = SavedTally {
@@ -104,49 +227,41 @@ pub fn tile_part(
     Ok((name, saved))
 }
 
-/// The region's run folder from `part`, the fold of all its tiles (checked complete), with
-/// the region's input read whole for the report.
-pub fn write_region(
-    input: &Path,
-    overrides: &Overrides,
-    part: Part,
-    out: &Path,
-    ascii: bool,
-) -> Result<(), Failure> {
-    let merged = share::merge(vec![part]).map_err(|e| Failure::Internal(e.into()))?;
-    let sim = crate::commands::load_simulation(input, overrides)?;
-    let finished = Finished {
-        tally: merged.tally,
-        info: merged.info,
-        record: merged.record,
-        convergence: None,
-    };
-    crate::regional::write_run_folder(&sim, input, out, ascii, finished)
-}
-
 /// Runs tile `spec`: its run and the record its tally file carries.
 fn simulate_tile(
     input: &Path,
     overrides: &Overrides,
     spec: &TileSpec,
+    select: Option<&SelectRocks<'_>>,
     observer: &dyn Observer,
 ) -> Result<(TileRun, RunRecord), Failure> {
     let region = rockfall_io::region_geometry(input)?;
     let failed = std::cell::RefCell::new(None);
-    let load = |core, window| {
-        rockfall_io::load_tile(input, core, window).map_err(|e| {
-            let message = e.to_string();
-            failed.replace(Some(e));
-            SimError::Engine {
-                file: None,
-                message,
-            }
-        })
+    let fail = |f: Failure| {
+        let message = f.text();
+        failed.replace(Some(f));
+        SimError::Engine {
+            file: None,
+            message,
+        }
     };
-    let run = run_tile(&region, spec, overrides, &load, observer).map_err(|e| {
+    let load = |core, window| {
+        let s = rockfall_io::load_tile(input, core, window).map_err(|e| fail(e.into()))?;
+        let tolerance = overrides.until_stable_pct.or(s.simulation.until_stable_pct);
+        if select.is_none() && tolerance.is_some() {
+            // one tile alone cannot tell when the region's maps are stable
+            return Err(fail(Failure::BadInput(anyhow!(
+                "{}: until_stable_pct: a convergence run decides on the region's maps; run \
+                 every tile with --tiles N (also under mpirun), not --tile i/N",
+                input.display()
+            ))));
+        }
+        Ok(s)
+    };
+    let run = run_tile(&region, spec, overrides, &load, select, observer).map_err(|e| {
         match failed.take() {
             // the input's own error, with its file and exit code
-            Some(e) => Failure::from(e),
+            Some(f) => f,
             None => simulate::sim_failure(e, input),
         }
     })?;

@@ -153,6 +153,36 @@ fn two_ranks_of_tiles_write_the_one_process_run_byte_for_byte() {
         "{stdout}"
     );
     common::same_outputs(&one, &two);
+    // a convergence run over the ranks' tiles stops where the one-process run stops
+    let (u1, u2) = (tmp.path().join("u1"), tmp.path().join("u2"));
+    let until = [
+        "--until-stable",
+        "3",
+        "--rocks-per-cell",
+        "160",
+        "--threads",
+        "1",
+    ];
+    let mut b1 = vec!["run", s(&scenario), "--out", s(&u1)];
+    b1.extend(until);
+    ok(rockfall(&b1));
+    let mut b2 = vec![
+        "run",
+        s(&scenario),
+        "--out",
+        s(&u2),
+        "--tiles",
+        "3",
+        "--halo-m",
+        "60",
+    ];
+    b2.extend(until);
+    let Some((code, stdout, stderr)) = mpirun(2, &b2) else {
+        return;
+    };
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    assert!(stdout.contains("convergence: stable at"), "{stdout}");
+    common::same_outputs(&u1, &u2);
     // a bad tiling is reported once, by rank 0, with exit 2
     let mut a3 = vec!["run", s(&scenario), "--tiles", "3", "--tile-size-m", "700"];
     let bad = tmp.path().join("bad");

@@ -129,6 +129,35 @@ fn tiles_merge_into_the_single_run_byte_for_byte() {
 }
 
 #[test]
+fn a_run_until_stable_over_tiles_stops_where_the_single_run_stops() {
+    let (tmp, scenario) = region();
+    let run = |extra: &[&str], out: &Path| {
+        let mut args = vec![
+            "run",
+            s(&scenario),
+            "--until-stable",
+            "3",
+            "--rocks-per-cell",
+        ];
+        args.extend(["160", "--out", s(out)]);
+        args.extend(extra);
+        ok(rockfall(&args))
+    };
+    let (single, tiled) = (tmp.path().join("single"), tmp.path().join("tiled"));
+    let one = run(&[], &single);
+    let three = run(&["--tiles", "3", "--halo-m", "60"], &tiled);
+    let stop = |printed: &str| {
+        let line = printed.lines().find(|l| l.starts_with("convergence:"));
+        line.unwrap_or_default().to_string()
+    };
+    assert!(stop(&one).contains("stable at"), "{one}");
+    assert_eq!(stop(&one), stop(&three));
+    same_outputs(&single, &tiled);
+    let batches = json(&tiled.join("summary.json"))["convergence"]["batches"].clone();
+    assert!(batches.as_u64().unwrap() >= 2, "{batches}");
+}
+
+#[test]
 fn tiles_of_a_rockyfor3d_folder_with_a_tree_list_merge_into_the_single_run() {
     let tmp = tempfile::tempdir().unwrap();
     let site = tmp.path().join("site2");
@@ -190,6 +219,22 @@ fn bad_tile_flags_and_incomplete_tiles_exit_2() {
         &["cannot be used with"],
     );
     bad_input(run(&["--halo-m", "100"]), &["--tile"]);
+    bad_input(
+        run(&["--tile", "1/4", "--until-stable", "2"]),
+        &["cannot be used with"],
+    );
+    // a tolerance in the scenario file: one tile cannot decide for the region
+    let text = std::fs::read_to_string(&scenario).unwrap();
+    let converging = scenario.with_file_name("converging.toml");
+    std::fs::write(
+        &converging,
+        text.replace("[simulation]\n", "[simulation]\nuntil_stable_pct = 2\n"),
+    )
+    .unwrap();
+    bad_input(
+        rockfall(&["run", s(&converging), "--tile", "1/4", "--out", s(&out)]),
+        &["converging.toml", "until_stable_pct", "--tiles N"],
+    );
     assert!(!out.exists(), "nothing written by a refused run");
     // three of four tiles do not make the region
     let mut dirs = Vec::new();

@@ -130,7 +130,7 @@ impl Simulation {
         let convergence = record
             .batch
             .until_stable_pct
-            .map(|tol| summary(&record, &tally, tol, self));
+            .map(|tol| convergence_summary(&record, &tally, tol, self));
         Ok(Finished {
             tally,
             info,
@@ -156,14 +156,20 @@ fn next_batch(record: &RunRecord, releases: &Releases) -> Option<RockSet> {
         Some(_) if b.converged => None,
         Some(_) => {
             let (from, to) = (per_release(b.batches), per_release(b.batches + 1));
-            let rocks = RockSet::from_ranges((0..releases.list().len()).map(|k| {
-                let r = releases.rocks_of(k);
-                let cap = r.end - r.start;
-                r.start + from.min(cap)..r.start + to.min(cap)
-            }));
+            let rocks = batch_rocks(releases, from, to);
             (!rocks.is_empty()).then_some(rocks)
         }
     }
+}
+
+/// The rocks of indices `from .. to` of every release (each cut at its own number of rocks):
+/// a batch of a convergence run.
+pub fn batch_rocks(releases: &Releases, from: u64, to: u64) -> RockSet {
+    RockSet::from_ranges((0..releases.list().len()).map(|k| {
+        let r = releases.rocks_of(k);
+        let cap = r.end - r.start;
+        r.start + from.min(cap)..r.start + to.min(cap)
+    }))
 }
 
 /// The parts of `r` inside `set`.
@@ -185,7 +191,13 @@ pub fn per_release(batches: u64) -> u64 {
     }
 }
 
-fn summary(record: &RunRecord, tally: &Tally, tol: f64, sim: &Simulation) -> ConvergenceSummary {
+/// How the convergence run `record` (tolerance `tol`, %) of `sim` ended, with its tally.
+pub fn convergence_summary(
+    record: &RunRecord,
+    tally: &Tally,
+    tol: f64,
+    sim: &Simulation,
+) -> ConvergenceSummary {
     let b = &record.batch;
     let last = b.history.last();
     let largest = last.map(MapChange::largest);

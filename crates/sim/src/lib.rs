@@ -23,6 +23,7 @@
 //! ```
 
 mod batches;
+pub mod converge;
 mod observe;
 pub mod parameters;
 pub mod reduce;
@@ -30,7 +31,9 @@ mod rock;
 pub mod share;
 pub mod tile;
 
-pub use batches::{BatchState, CHECKPOINTS, FIRST_BATCH, Finished, per_release};
+pub use batches::{
+    BatchState, CHECKPOINTS, FIRST_BATCH, Finished, batch_rocks, convergence_summary, per_release,
+};
 pub use observe::{Observer, Quiet};
 pub use rock::RigidRock;
 pub use share::{MergeError, Merged, Partition, RunRecord};
@@ -45,7 +48,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
 
-pub use rockfall_engine::{RockSet, RunOptions};
+pub use rockfall_engine::{Releases, RockSet, RunOptions};
 
 /// What can stop a simulation. Each input error names the file its parameter came from,
 /// when the scenario was read from files ([`SimError::file`]).

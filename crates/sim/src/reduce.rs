@@ -18,6 +18,16 @@ pub type Part = (PathBuf, SavedTally<RunRecord>);
 /// holding the lower first rock gives the run's parameters (its first source's rock); stems
 /// counted per tile are summed, wall times summed, the larger thread count kept.
 pub fn combine(a: Part, b: Part) -> Result<Part, MergeError> {
+    join(a, b, true)
+}
+
+/// A batch of a convergence run added to the run so far: as [`combine`], but the stems
+/// counted per tile are those of the run so far (the batch counted the same tiles' again).
+pub fn accumulate(run: Part, batch: Part) -> Result<Part, MergeError> {
+    join(run, batch, false)
+}
+
+fn join(a: Part, b: Part, sum_stems: bool) -> Result<Part, MergeError> {
     let first = |p: &Part| p.1.run.rocks.first().map_or((true, 0), |r| (false, r[0]));
     let (mut a, b) = if first(&b) < first(&a) {
         (b, a)
@@ -38,7 +48,7 @@ pub fn combine(a: Part, b: Part) -> Result<Part, MergeError> {
     }
     let all = RockSet::from_ranges(ra.ranges().iter().chain(rb.ranges()).cloned());
     let (sa, sb) = (&mut a.1, b.1);
-    if sa.run.fingerprint.starts_with("tiles-") {
+    if sum_stems && sa.run.fingerprint.starts_with("tiles-") {
         let stems = |p: &mut rockfall_results::Parameters| p.size_mut().map_or(0, |s| s.stems);
         let sum = stems(&mut sa.info.parameters) + stems(&mut sb.info.parameters.clone());
         if let Some(s) = sa.info.parameters.size_mut() {

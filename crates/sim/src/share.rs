@@ -153,7 +153,7 @@ impl RunRecord {
             batch: BatchState {
                 wanted: held,
                 batches: 1,
-                until_stable_pct: None,
+                until_stable_pct: scenario.simulation.until_stable_pct,
                 history: Vec::new(),
                 converged: false,
             },

@@ -231,6 +231,10 @@ pub struct TileRun {
     pub scenario: Scenario,
 }
 
+/// Which of a tile's releases' rocks to run (given the tile's scenario as simulated): a
+/// batch of a convergence run.
+pub type SelectRocks<'a> = dyn Fn(&Scenario, &Releases) -> RockSet + 'a;
+
 /// `[col0, row0, ncols, nrows]` of a window.
 pub fn window_array(w: &Window) -> [usize; 4] {
     [w.col0, w.row0, w.ncols, w.nrows]
@@ -238,13 +242,15 @@ pub fn window_array(w: &Window) -> [usize; 4] {
 
 /// Runs tile `spec` of the region whose grid is `region`: `load(core, window)` gives the
 /// scenario cut to the tile ([`Scenario::cut_to_tile`] or a windowed read), with every
-/// override applied by [`Simulation::new`]. Pass after pass the rocks that left are run
-/// again on a halo twice as wide.
+/// override applied by [`Simulation::new`]. Its rocks: `select` of its releases (a batch of
+/// a convergence run), or all. Pass after pass the rocks that left are run again on a halo
+/// twice as wide.
 pub fn run_tile(
     region: &GridGeometry,
     spec: &TileSpec,
     overrides: &Overrides,
     load: &dyn Fn(Window, Window) -> Result<Scenario, SimError>,
+    select: Option<&SelectRocks<'_>>,
     observer: &dyn Observer,
 ) -> Result<TileRun, SimError> {
     let bad = |e: TileError| SimError::Engine {
@@ -265,7 +271,7 @@ pub fn run_tile(
             t.trusted = trusted(&window, region);
         }
         let releases = Releases::of(&scenario);
-        let all = releases.rock_set();
+        let all = select.map_or_else(|| releases.rock_set(), |f| f(&scenario, &releases));
         let rocks = todo.take().unwrap_or_else(|| all.clone());
         let (mut tally, mut info) = {
             // a tile without a source cell of its own runs no rock, but counts its stems
