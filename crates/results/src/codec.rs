@@ -5,22 +5,88 @@
 #[derive(Debug, Default)]
 pub(crate) struct Enc {
     pub(crate) buf: Vec<u8>,
+    /// Where the bytes go when they are streamed to a file instead of held.
+    sink: Option<Sink>,
 }
 
+/// A file an [`Enc`] streams into, with the checksum of what it has written.
+#[derive(Debug)]
+struct Sink {
+    file: std::io::BufWriter<std::fs::File>,
+    sum: Fnv1a,
+    failed: Option<std::io::Error>,
+}
+
+/// Bytes an [`Enc`] streaming to a file holds at most before writing them out.
+const SPILL: usize = 1 << 20;
+
 impl Enc {
+    /// An encoder streaming into `file`: it holds at most about [`SPILL`] bytes; end it with
+    /// [`Enc::finish`].
+    pub(crate) fn to_file(file: std::fs::File) -> Enc {
+        Enc {
+            buf: Vec::with_capacity(SPILL + 64),
+            sink: Some(Sink {
+                file: std::io::BufWriter::new(file),
+                sum: Fnv1a::default(),
+                failed: None,
+            }),
+        }
+    }
+
+    /// Writes the bytes held out when streaming and they are many.
+    #[inline]
+    fn room(&mut self) {
+        if self.buf.len() >= SPILL && self.sink.is_some() {
+            self.spill();
+        }
+    }
+
+    fn spill(&mut self) {
+        use std::io::Write;
+        if let Some(s) = self.sink.as_mut() {
+            s.sum.bytes(&self.buf);
+            if s.failed.is_none()
+                && let Err(e) = s.file.write_all(&self.buf)
+            {
+                s.failed = Some(e);
+            }
+            self.buf.clear();
+        }
+    }
+
+    /// Ends a streamed encoding: writes the rest, then the FNV-1a checksum of every byte
+    /// written (as [`fnv1a`] over the whole would give), and flushes.
+    pub(crate) fn finish(mut self) -> std::io::Result<()> {
+        use std::io::Write;
+        self.spill();
+        let Some(mut s) = self.sink.take() else {
+            return Ok(());
+        };
+        if let Some(e) = s.failed {
+            return Err(e);
+        }
+        s.file.write_all(&s.sum.0.to_le_bytes())?;
+        s.file.flush()
+    }
+
     pub(crate) fn u8(&mut self, v: u8) {
+        self.room();
         self.buf.push(v);
     }
 
     pub(crate) fn u32(&mut self, v: u32) {
+        self.room();
         self.buf.extend_from_slice(&v.to_le_bytes());
     }
 
     pub(crate) fn u64(&mut self, v: u64) {
+        self.room();
         self.buf.extend_from_slice(&v.to_le_bytes());
     }
 
     pub(crate) fn u128(&mut self, v: u128) {
+        self.room();
         self.buf.extend_from_slice(&v.to_le_bytes());
     }
 

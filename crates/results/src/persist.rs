@@ -198,20 +198,31 @@ pub fn encode_tally<M: Serialize>(
     info: &RunInfo,
     run: &M,
 ) -> Result<Vec<u8>, serde_json::Error> {
+    let mut e = Enc::default();
+    encode_content(&mut e, tally, info, run)?;
+    let sum = fnv1a(&e.buf);
+    e.u64(sum);
+    Ok(e.buf)
+}
+
+/// Everything of a tally file but its checksum.
+fn encode_content<M: Serialize>(
+    e: &mut Enc,
+    tally: &Tally,
+    info: &RunInfo,
+    run: &M,
+) -> Result<(), serde_json::Error> {
     let header = serde_json::to_vec(&Header {
         layout: LayoutRecord::from(&**tally.layout()),
         info: info.clone(),
         run,
     })?;
-    let mut e = Enc::default();
     e.buf.extend_from_slice(MAGIC);
     e.u32(TALLY_FORMAT);
     e.len(header.len());
     e.buf.extend_from_slice(&header);
-    body(&mut e, tally);
-    let sum = fnv1a(&e.buf);
-    e.u64(sum);
-    Ok(e.buf)
+    body(e, tally);
+    Ok(())
 }
 
 /// Reads the bytes of a tally file written by [`encode_tally`]; errors name `path`.
@@ -265,16 +276,22 @@ pub fn decode_tally<M: DeserializeOwned>(
 }
 
 /// Writes a tally file atomically: a reader sees the old file or the whole new one, never
-/// part of it, and a killed writer leaves no file under `path`.
+/// part of it, and a killed writer leaves no file under `path`. The bytes are those of
+/// [`encode_tally`], streamed: at most about a megabyte of them is held at once.
 pub fn write_tally<M: Serialize>(
     path: &Path,
     tally: &Tally,
     info: &RunInfo,
     run: &M,
 ) -> Result<(), crate::ResultsError> {
-    let bytes = encode_tally(tally, info, run)
-        .map_err(|e| (path.to_path_buf(), std::io::Error::other(e)))?;
-    rockfall_raster::atomic::write_bytes_atomic(path, &bytes).map_err(crate::ResultsError::from)
+    let at = |e: std::io::Error| (path.to_path_buf(), e);
+    rockfall_raster::atomic::write_atomic(path, |w| {
+        // the encoder writes through its own handle of the (still empty) file
+        let mut e = Enc::to_file(w.get_ref().try_clone().map_err(at)?);
+        encode_content(&mut e, tally, info, run).map_err(|e| at(std::io::Error::other(e)))?;
+        e.finish().map_err(at)
+    })
+    .map_err(|e: (std::path::PathBuf, std::io::Error)| crate::ResultsError::from(e))
 }
 
 /// Reads the tally file at `path`.

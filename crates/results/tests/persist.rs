@@ -43,6 +43,32 @@ fn round_trip(t: &Tally) -> Tally {
 }
 
 #[test]
+fn a_tally_file_streamed_to_disk_has_the_bytes_of_the_encoded_tally() {
+    // enough rocks, each with its record, for a file of several megabytes: the writer
+    // spills it in pieces
+    let l = Arc::new(Layout {
+        rock_ends: true,
+        ..(*layout()).clone()
+    });
+    let t = tally_of(&l, 0..40_000);
+    let bytes = encode_tally(&t, &info(), &"run").unwrap();
+    assert!(
+        bytes.len() > 3 << 20,
+        "{} bytes: too few to stream",
+        bytes.len()
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.tally");
+    write_tally(&path, &t, &info(), &"run").unwrap();
+    assert!(
+        std::fs::read(&path).unwrap() == bytes,
+        "the streamed file differs"
+    );
+    let back = read_tally::<String>(&path).unwrap();
+    assert_identical(&results(t, 1, 1.0), &results(back.tally, 1, 1.0));
+}
+
+#[test]
 fn saved_shares_merge_into_the_single_run_bit_for_bit() {
     let l = layout();
     let single = results(tally_of(&l, 0..ROCKS), 1, 1.0);

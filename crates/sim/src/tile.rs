@@ -273,9 +273,12 @@ pub fn run_tile(
         let releases = Releases::of(&scenario);
         let all = select.map_or_else(|| releases.rock_set(), |f| f(&scenario, &releases));
         let rocks = todo.take().unwrap_or_else(|| all.clone());
-        let (mut tally, mut info) = {
+        let region_rocks = releases.rocks();
+        drop(releases);
+        let region_cells = scenario.tile.as_ref().map_or(0, |t| t.region_source_cells);
+        let (mut tally, mut info, scenario) = {
             // a tile without a source cell of its own runs no rock, but counts its stems
-            let sim = Simulation::new(scenario.clone(), overrides)?;
+            let sim = Simulation::new(scenario, overrides)?;
             let label = format!("tile {spec}, halo {} m", halo as f64 * region.cell_size_m);
             let mut out = sim.run_rocks(&rocks, &label, observer)?;
             // the region's source cells; the stems of the tile's own cells, and for tile 1 those
@@ -285,11 +288,11 @@ pub fn run_tile(
                 None => spec.index == 1,
             };
             let stems = sim.forest().stems().iter().filter(in_core).count();
-            let region_cells = scenario.tile.as_ref().map_or(0, |t| t.region_source_cells);
             if let Some(size) = out.1.parameters.size_mut() {
                 (size.source_cells, size.stems) = (region_cells, stems as u64);
             }
-            out
+            let (scenario, _) = sim.into_parts();
+            (out.0, out.1, scenario)
         };
         info.threads = overrides.threads();
         let mut left = tally.take_left_tile();
@@ -302,7 +305,7 @@ pub fn run_tile(
             wall_time_s: started.elapsed().as_secs_f64(),
         });
         acc = Some(match acc.take() {
-            None => (tally, info, all, releases.rocks(), scenario),
+            None => (tally, info, all, region_rocks, scenario),
             Some((mut t, mut i, a, n, s)) => {
                 i.wall_time_s += info.wall_time_s;
                 t.merge(tally);
