@@ -5,9 +5,7 @@ use crate::vector::inputs::{self, Frame, Outside};
 use crate::vector::{self as vec_io, is_vector_path};
 use crate::{InputError, scenario_error, trees};
 use rockfall_forest::StandOptions;
-use rockfall_raster::{
-    Crs, Field, Grid, GridGeometry, Window, read_geometry, read_grid, read_grid_window,
-};
+use rockfall_raster::{Crs, Field, Grid, read_grid};
 use rockfall_scenario::{
     Engine, ForestSpec, LumpedSettings, Nets, OutputSettings, RigidParams, Scenario, Screen,
     SimulationSettings, Stands,
@@ -19,6 +17,10 @@ use std::rc::Rc;
 
 mod release;
 mod rock;
+mod tile;
+
+use tile::{TileRead, windowed};
+pub use tile::{read_dem_geometry, read_scenario_tile};
 
 /// Default soil type when a scenario gives none: class 4 (talus slope, r_n 0.38).
 pub const DEFAULT_SOILTYPE: u8 = 4;
@@ -37,56 +39,11 @@ pub fn read_scenario(path: &Path) -> Result<Scenario, InputError> {
     parse_scenario(&text, path)
 }
 
-/// Reads and validates a scenario file as the spatial tile of its region released from the
-/// cells of `core`: every raster is read over `window` only (the core and its halo; a
-/// GeoTIFF decodes only the tiles or strips it touches), the release raster is scanned for
-/// the numbers of the core's source cells among the region's, and vector layers are burnt
-/// on the region's grid and cut to the window. See [`Scenario::tile`].
-pub fn read_scenario_tile(
-    path: &Path,
-    core: Window,
-    window: Window,
-) -> Result<Scenario, InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
-    parse(
-        &text,
-        path,
-        Some(TileRead {
-            core,
-            window,
-            found: None,
-        }),
-    )
-}
-
-/// The grid of the DEM a scenario file names, read from the DEM's header.
-pub fn read_dem_geometry(path: &Path) -> Result<GridGeometry, InputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
-    let file = parse_toml(&text, path)?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    let dem = base.join(&file.terrain.dem);
-    if !dem.is_file() {
-        return Err(InputError::Missing {
-            path: dem,
-            what: format!("raster for `dem` (named in {})", path.display()),
-        });
-    }
-    Ok(rockfall_raster::read_geometry(&dem)?.0)
-}
-
 fn parse_toml(text: &str, path: &Path) -> Result<schema::File, InputError> {
     toml::from_str(text).map_err(|e| InputError::Toml {
         path: path.to_path_buf(),
         message: e.to_string().trim_end().to_string(),
     })
-}
-
-/// A tile's windows while its scenario is read, and what the release scan found: the
-/// region's source cells and the numbers of the core's among them.
-struct TileRead {
-    core: Window,
-    window: Window,
-    found: Option<(u64, Vec<u64>)>,
 }
 
 /// [`read_scenario`] on a scenario file's text already read: `path` names it in errors and
@@ -176,24 +133,9 @@ impl Resolver {
 
     fn grid(&mut self, param: &str, p: &str) -> Result<Grid<f64>, InputError> {
         let path = self.raster_path(param, p)?;
-        let Some(window) = self.tile.as_ref().map(|t| t.window) else {
-            return Ok(read_grid(&path)?);
-        };
-        let (whole, _) = read_geometry(&path)?;
-        if !window.fits(whole.ncols, whole.nrows) {
-            // not the DEM's grid: read whole, for the usual check to name the mismatch
-            return Ok(read_grid(&path)?);
-        }
-        let part = read_grid_window(&path, &window)?;
-        part.placed(whole, window)
-            .ok_or_else(|| InputError::invalid(&path, "the tile's window does not fit"))
-    }
-
-    /// A grid burnt on the region's grid, cut to a tile's window when reading one.
-    fn fit(&self, grid: Grid<f64>) -> Grid<f64> {
-        match &self.tile {
-            Some(t) => rockfall_scenario::tile::cut_grid(&grid, &t.window).unwrap_or(grid),
-            None => grid,
+        match self.tile.as_ref().map(|t| t.window) {
+            None => Ok(read_grid(&path)?),
+            Some(window) => windowed(&path, window),
         }
     }
 

@@ -26,12 +26,14 @@ mod field;
 pub mod geotiff;
 mod grid;
 pub mod rows;
+mod window;
 
 pub use crs::Crs;
 pub use error::RasterError;
 pub use field::Field;
-pub use grid::{GeometryMismatch, Grid, GridGeometry, Window};
+pub use grid::{GeometryMismatch, Grid, GridGeometry};
 pub use rows::{RasterView, Rows};
+pub use window::Window;
 
 use std::path::Path;
 

@@ -24,6 +24,7 @@
 
 mod batches;
 pub mod converge;
+mod fingerprint;
 mod observe;
 pub mod parameters;
 pub mod reduce;

@@ -14,10 +14,11 @@ use std::ops::Range;
 use std::path::PathBuf;
 
 use rockfall_engine::RockSet;
-use rockfall_results::{Fnv1a, Layout, RunInfo, SavedTally, Tally};
+use rockfall_results::{Layout, RunInfo, SavedTally, Tally};
 use rockfall_scenario::Scenario;
 
 use crate::batches::BatchState;
+pub use crate::fingerprint::{fingerprint, tile_fingerprint};
 use serde::{Deserialize, Serialize};
 
 /// Share `index` (1-based) of `count` equal shares of a run's rocks.
@@ -198,118 +199,6 @@ impl RunRecord {
 /// `rocks` as `[start, end)` pairs.
 pub fn ranges(rocks: &RockSet) -> Vec<[u64; 2]> {
     rocks.ranges().iter().map(|r| [r.start, r.end]).collect()
-}
-
-/// A hash of everything in `scenario` that shapes its results: terrain, forest, nets, rock,
-/// release, screens, engine settings, numbers of rocks, seed, outputs kept — but not where it
-/// was read from (`sources`, `notes`), so that copies of one input on several machines agree.
-/// FNV-1a over the `Debug` text of each part (exact for floats: `Debug` prints the shortest
-/// text that reads back to the same bits), as 16 hex digits.
-pub fn fingerprint(scenario: &Scenario) -> String {
-    use std::fmt::Write;
-    let s = scenario;
-    let mut h = Fnv1a::default();
-    // `write!` into the hash cannot fail
-    let _ = write!(
-        h,
-        "{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
-        s.name,
-        s.engine,
-        s.seed,
-        s.terrain,
-        s.forest,
-        s.nets,
-        s.rock,
-        s.release,
-        s.screens,
-        s.lumped,
-        s.rigid,
-        s.contact,
-        settled(&s.simulation),
-        s.output,
-    );
-    format!("{:016x}", h.0)
-}
-
-/// The rock's settings with each per-cell raster replaced by a mark (its values are in the
-/// files hashed beside it, and a tile holds only its window of them).
-fn rock_without_grids(rock: &rockfall_scenario::RockSpec) -> String {
-    use rockfall_raster::Field;
-    let f = |f: &Field| match f {
-        Field::Const(v) => format!("{v:?}"),
-        Field::Grid(g) => format!("grid {:?}", g.geometry()),
-    };
-    let shape = match &rock.shape {
-        rockfall_scenario::RockShape::PerCell(g) => f(g),
-        other => format!("{other:?}"),
-    };
-    format!(
-        "{shape}|{}|{}|{}|{}|{:?}|{:?}|{:?}",
-        f(&rock.dims_m[0]),
-        f(&rock.dims_m[1]),
-        f(&rock.dims_m[2]),
-        f(&rock.density_kg_m3),
-        rock.volume_m3,
-        rock.volume_variation_percent,
-        rock.volume_distribution,
-    )
-}
-
-/// The settings as simulated: whether a number of rocks was given or defaulted shapes
-/// nothing once the caps are applied, and a run read back from its record has every number
-/// given.
-fn settled(s: &rockfall_scenario::SimulationSettings) -> rockfall_scenario::SimulationSettings {
-    rockfall_scenario::SimulationSettings {
-        rocks_per_cell_given: true,
-        rocks_per_point_given: true,
-        ..s.clone()
-    }
-}
-
-/// The fingerprint of a region's run as its spatial tiles record it (`tiles-` and 16 hex
-/// digits): the same for every tile and for the whole run, whose grids and release cells
-/// differ from a tile's. FNV-1a over the parts of [`fingerprint`] other than the grids,
-/// release cells and stands, the DEM's grid, and the bytes of every file the scenario was
-/// read from (in the order of their keys).
-pub fn tile_fingerprint(scenario: &Scenario) -> std::io::Result<String> {
-    use std::fmt::Write;
-    use std::io::Read;
-    let s = scenario;
-    let mut h = Fnv1a::default();
-    let r = &s.release;
-    let _ = write!(
-        h,
-        "{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
-        s.name,
-        s.engine,
-        s.seed,
-        s.terrain.dem.geometry(),
-        rock_without_grids(&s.rock),
-        r.cell_height_m,
-        r.cell_velocity_ms,
-        r.points,
-        s.screens,
-        s.lumped,
-        s.rigid,
-        s.contact,
-        settled(&s.simulation),
-        s.output,
-        s.forest.is_some(),
-        s.nets.is_some(),
-    );
-    let mut buf = vec![0u8; 1 << 20];
-    for (key, path) in &s.sources {
-        let _ = write!(h, "|{key}");
-        let mut f = std::fs::File::open(path)?;
-        loop {
-            let n = f.read(&mut buf)?;
-            if n == 0 {
-                break;
-            }
-            h.bytes(&buf[..n]);
-        }
-    }
-    Ok(format!("tiles-{:016x}", h.0))
 }
 
 /// Why saved tallies cannot be merged. Each names the folders or files at fault.

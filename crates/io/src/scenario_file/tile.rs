@@ -1,0 +1,74 @@
+//! Reading a scenario file as one spatial tile of its region (`rockfall run --tile`).
+
+use super::{Resolver, parse, parse_toml};
+use crate::InputError;
+use rockfall_raster::{Grid, GridGeometry, Window, read_geometry, read_grid, read_grid_window};
+use rockfall_scenario::Scenario;
+use std::path::Path;
+
+/// Reads and validates a scenario file as the spatial tile of its region released from the
+/// cells of `core`: every raster is read over `window` only (the core and its halo; a
+/// GeoTIFF decodes only the tiles or strips it touches), the release raster is scanned for
+/// the numbers of the core's source cells among the region's, and vector layers are burnt
+/// on the region's grid and cut to the window. See [`Scenario::tile`].
+pub fn read_scenario_tile(
+    path: &Path,
+    core: Window,
+    window: Window,
+) -> Result<Scenario, InputError> {
+    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
+    parse(
+        &text,
+        path,
+        Some(TileRead {
+            core,
+            window,
+            found: None,
+        }),
+    )
+}
+
+/// The grid of the DEM a scenario file names, read from the DEM's header.
+pub fn read_dem_geometry(path: &Path) -> Result<GridGeometry, InputError> {
+    let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
+    let file = parse_toml(&text, path)?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let dem = base.join(&file.terrain.dem);
+    if !dem.is_file() {
+        return Err(InputError::Missing {
+            path: dem,
+            what: format!("raster for `dem` (named in {})", path.display()),
+        });
+    }
+    Ok(rockfall_raster::read_geometry(&dem)?.0)
+}
+
+/// A tile's windows while its scenario is read, and what the release scan found: the
+/// region's source cells and the numbers of the core's among them.
+pub(super) struct TileRead {
+    pub(super) core: Window,
+    pub(super) window: Window,
+    pub(super) found: Option<(u64, Vec<u64>)>,
+}
+
+/// The raster `path` holding `window` only, on its whole grid; a raster whose grid the window
+/// does not fit (not the DEM's) is read whole, for the usual check to name the mismatch.
+pub(super) fn windowed(path: &Path, window: Window) -> Result<Grid<f64>, InputError> {
+    let (whole, _) = read_geometry(path)?;
+    if !window.fits(whole.ncols, whole.nrows) {
+        return Ok(read_grid(path)?);
+    }
+    let part = read_grid_window(path, &window)?;
+    part.placed(whole, window)
+        .ok_or_else(|| InputError::invalid(path, "the tile's window does not fit"))
+}
+
+impl Resolver {
+    /// A grid burnt on the region's grid, cut to a tile's window when reading one.
+    pub(super) fn fit(&self, grid: Grid<f64>) -> Grid<f64> {
+        match &self.tile {
+            Some(t) => rockfall_scenario::tile::cut_grid(&grid, &t.window).unwrap_or(grid),
+            None => grid,
+        }
+    }
+}

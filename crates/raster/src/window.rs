@@ -1,0 +1,73 @@
+//! Rectangles of a grid's cells: what a windowed read decodes and what a grid holds.
+
+use crate::GridGeometry;
+
+/// A rectangle of a grid's cells: columns `col0 .. col0 + ncols`, rows `row0 .. row0 + nrows`
+/// (row 0 north).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Window {
+    /// First column.
+    pub col0: usize,
+    /// First row (from the north).
+    pub row0: usize,
+    /// Columns.
+    pub ncols: usize,
+    /// Rows.
+    pub nrows: usize,
+}
+
+impl Window {
+    /// Every cell of a grid of `geometry`.
+    pub fn whole(geometry: &GridGeometry) -> Window {
+        Window {
+            col0: 0,
+            row0: 0,
+            ncols: geometry.ncols,
+            nrows: geometry.nrows,
+        }
+    }
+
+    /// True when every cell of `other` is one of this window's.
+    pub fn covers(&self, other: &Window) -> bool {
+        other.col0 >= self.col0
+            && other.row0 >= self.row0
+            && other.col0 + other.ncols <= self.col0 + self.ncols
+            && other.row0 + other.nrows <= self.row0 + self.nrows
+    }
+
+    /// True when cell (row, col) lies in the window.
+    #[inline]
+    pub fn contains(&self, row: usize, col: usize) -> bool {
+        row.wrapping_sub(self.row0) < self.nrows && col.wrapping_sub(self.col0) < self.ncols
+    }
+
+    /// The window grown by `cells` on every side, cut to a grid of `ncols × nrows`.
+    pub fn grown(&self, cells: usize, ncols: usize, nrows: usize) -> Window {
+        let (c0, r0) = (
+            self.col0.saturating_sub(cells),
+            self.row0.saturating_sub(cells),
+        );
+        let c1 = (self.col0 + self.ncols).saturating_add(cells).min(ncols);
+        let r1 = (self.row0 + self.nrows).saturating_add(cells).min(nrows);
+        Window {
+            col0: c0,
+            row0: r0,
+            ncols: c1.saturating_sub(c0),
+            nrows: r1.saturating_sub(r0),
+        }
+    }
+
+    /// True when the window has cells and lies inside a grid of `ncols × nrows`.
+    pub fn fits(&self, ncols: usize, nrows: usize) -> bool {
+        self.ncols > 0
+            && self.nrows > 0
+            && self
+                .col0
+                .checked_add(self.ncols)
+                .is_some_and(|e| e <= ncols)
+            && self
+                .row0
+                .checked_add(self.nrows)
+                .is_some_and(|e| e <= nrows)
+    }
+}
