@@ -186,6 +186,26 @@ fn tiles_of_a_rockyfor3d_folder_with_a_tree_list_merge_into_the_single_run() {
 }
 
 #[test]
+fn tiles_of_a_rigid_engine_run_merge_into_the_single_run() {
+    // forest-slope-40: polyhedral rocks from a release point down a forested 40° slope; on
+    // a 60 m halo they leave the tile and are run again
+    let tmp = tempfile::tempdir().unwrap();
+    let site = tmp.path().join("slope");
+    ok(rockfall(&["site", "forest-slope-40", "--out", s(&site)]));
+    let scenario = site.join("scenario.toml");
+    let run = |extra: &[&str], out: &Path| {
+        let mut args = vec!["run", s(&scenario), "--rocks-per-point", "4", "--out", s(out)];
+        args.extend(extra);
+        ok(rockfall(&args))
+    };
+    let (single, tiled) = (tmp.path().join("single"), tmp.path().join("tiled"));
+    run(&[], &single);
+    let printed = run(&["--tiles", "2", "--halo-m", "60"], &tiled);
+    assert!(printed.contains("(run again on a halo twice as wide)"), "{printed}");
+    same_outputs(&single, &tiled);
+}
+
+#[test]
 fn bad_tile_flags_and_incomplete_tiles_exit_2() {
     let (tmp, scenario) = region();
     let out = tmp.path().join("out");
