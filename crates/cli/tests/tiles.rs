@@ -194,14 +194,24 @@ fn tiles_of_a_rigid_engine_run_merge_into_the_single_run() {
     ok(rockfall(&["site", "forest-slope-40", "--out", s(&site)]));
     let scenario = site.join("scenario.toml");
     let run = |extra: &[&str], out: &Path| {
-        let mut args = vec!["run", s(&scenario), "--rocks-per-point", "4", "--out", s(out)];
+        let mut args = vec![
+            "run",
+            s(&scenario),
+            "--rocks-per-point",
+            "4",
+            "--out",
+            s(out),
+        ];
         args.extend(extra);
         ok(rockfall(&args))
     };
     let (single, tiled) = (tmp.path().join("single"), tmp.path().join("tiled"));
     run(&[], &single);
     let printed = run(&["--tiles", "2", "--halo-m", "60"], &tiled);
-    assert!(printed.contains("(run again on a halo twice as wide)"), "{printed}");
+    assert!(
+        printed.contains("(run again on a halo twice as wide)"),
+        "{printed}"
+    );
     same_outputs(&single, &tiled);
 }
 

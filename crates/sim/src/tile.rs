@@ -227,7 +227,7 @@ pub struct TileRun {
     pub core: [usize; 4],
     /// Its passes, the first with the halo asked for.
     pub passes: Vec<TilePass>,
-    /// The scenario of the first pass (its grids cut to that pass's window).
+    /// The scenario of the last pass (its grids cut to that pass's window).
     pub scenario: Scenario,
 }
 
@@ -260,11 +260,15 @@ pub fn run_tile(
     let core = spec.core(region).map_err(bad)?;
     let mut halo = spec.halo_cells(region).map_err(bad)?;
     let mut todo: Option<RockSet> = None;
-    let mut acc: Option<(Tally, RunInfo, RockSet, u64, Scenario)> = None;
+    let mut acc: Option<(Tally, RunInfo, RockSet, u64)> = None;
+    // the last pass's scenario: the one before is dropped before the next is read, so that
+    // one set of the tile's grids is held at a time
+    let mut last: Option<Scenario> = None;
     let mut passes = Vec::new();
     loop {
         let started = std::time::Instant::now();
         let window = core.grown(halo, region.ncols, region.nrows);
+        drop(last.take());
         let mut scenario = load(core, window)?;
         overrides.apply(&mut scenario);
         if let Some(t) = scenario.tile.as_mut() {
@@ -304,12 +308,13 @@ pub fn run_tile(
             left_tile: left.len() as u64,
             wall_time_s: started.elapsed().as_secs_f64(),
         });
+        last = Some(scenario);
         acc = Some(match acc.take() {
-            None => (tally, info, all, region_rocks, scenario),
-            Some((mut t, mut i, a, n, s)) => {
+            None => (tally, info, all, region_rocks),
+            Some((mut t, mut i, a, n)) => {
                 i.wall_time_s += info.wall_time_s;
                 t.merge(tally);
-                (t, i, a, n, s)
+                (t, i, a, n)
             }
         });
         if left.is_empty() {
@@ -318,7 +323,8 @@ pub fn run_tile(
         todo = Some(RockSet::from_ranges(left.iter().map(|&id| id..id + 1)));
         halo = halo.saturating_mul(2);
     }
-    let (tally, info, rocks, region_rocks, scenario) = acc.ok_or(SimError::Cancelled)?;
+    let ((tally, info, rocks, region_rocks), scenario) =
+        acc.zip(last).ok_or(SimError::Cancelled)?;
     Ok(TileRun {
         tally,
         info,
