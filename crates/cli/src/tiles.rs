@@ -15,6 +15,7 @@ use rockfall_sim::{
 };
 
 use serde::Serialize;
+use std::cell::OnceCell;
 use std::path::Path;
 
 /// What `tile.json` says about a tile's run.
@@ -47,7 +48,14 @@ pub fn run(
     spec: &TileSpec,
     out: &Path,
 ) -> Result<(), Failure> {
-    let (run, record) = simulate_tile(input, overrides, spec, None, &Console::default())?;
+    let (run, record) = simulate_tile(
+        input,
+        overrides,
+        spec,
+        None,
+        &Default::default(),
+        &Console::default(),
+    )?;
     let internal =
         |e: &dyn std::fmt::Display, p: &Path| Failure::Internal(anyhow!("{}: {e}", p.display()));
     std::fs::create_dir_all(out).map_err(|e| internal(&e, out))?;
@@ -78,9 +86,18 @@ pub fn run_all(
 ) -> Result<(), Failure> {
     let console = Console::default();
     let mut run = TiledRun::default();
+    let tiles: Vec<u64> = (1..=spec.count).collect();
+    let fingerprint = OnceCell::new();
     while let Some(range) = run.next_batch() {
-        let tiles: Vec<u64> = (1..=spec.count).collect();
-        let batch = own_tiles(input, overrides, spec, &tiles, range, &console)?;
+        let batch = own_tiles(
+            input,
+            overrides,
+            spec,
+            &tiles,
+            range,
+            &fingerprint,
+            &console,
+        )?;
         let Some(batch) = batch else { break };
         if run.add(batch)? {
             break;
@@ -91,18 +108,21 @@ pub fn run_all(
 
 /// The tiles `tiles` of the region, each run on the rocks of indices `range` of its
 /// releases (a batch of a convergence run; all its rocks otherwise), folded into one part.
+/// `fingerprint` holds the region's tile fingerprint once computed: the same for every
+/// tile and batch, it hashes the input files once per run.
 pub fn own_tiles(
     input: &Path,
     overrides: &Overrides,
     spec: &TileSpec,
     tiles: &[u64],
     range: (u64, u64),
+    fingerprint: &OnceCell<String>,
     observer: &dyn Observer,
 ) -> Result<Option<Part>, Failure> {
     let mut acc: Option<Part> = None;
     for &index in tiles {
         let spec = TileSpec { index, ..*spec };
-        let part = tile_part(input, overrides, &spec, range, observer)?;
+        let part = tile_part(input, overrides, &spec, range, fingerprint, observer)?;
         acc = Some(match acc {
             None => part,
             Some(a) => combine(a, part).map_err(|e| Failure::Internal(e.into()))?,
@@ -206,6 +226,7 @@ pub fn tile_part(
     overrides: &Overrides,
     spec: &TileSpec,
     range: (u64, u64),
+    fingerprint: &OnceCell<String>,
     observer: &dyn Observer,
 ) -> Result<Part, Failure> {
     let select = |s: &rockfall_scenario::Scenario, r: &rockfall_sim::Releases| match s
@@ -215,7 +236,8 @@ pub fn tile_part(
         Some(_) => batch_rocks(r, range.0, range.1),
         None => r.rock_set(),
     };
-    let (run, record) = simulate_tile(input, overrides, spec, Some(&select), observer)?;
+    let (run, record) =
+        simulate_tile(input, overrides, spec, Some(&select), fingerprint, observer)?;
     print(&run.scenario.name, &report(spec, &run));
     let name = std::path::PathBuf::from(format!("tile {spec}"));
     let saved = SavedTally {
@@ -233,6 +255,7 @@ fn simulate_tile(
     overrides: &Overrides,
     spec: &TileSpec,
     select: Option<&SelectRocks<'_>>,
+    fingerprint: &OnceCell<String>,
     observer: &dyn Observer,
 ) -> Result<(TileRun, RunRecord), Failure> {
     let region = rockfall_io::region_geometry(input)?;
@@ -266,8 +289,14 @@ fn simulate_tile(
         }
     })?;
     // of the scenario as simulated (overrides applied), as `merge` computes it to reload it
-    let fingerprint = share::tile_fingerprint(&run.scenario)
-        .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", input.display())))?;
+    let fingerprint = match fingerprint.get() {
+        Some(f) => f.clone(),
+        None => {
+            let f = share::tile_fingerprint(&run.scenario)
+                .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", input.display())))?;
+            fingerprint.get_or_init(|| f).clone()
+        }
+    };
     let record = RunRecord::of_tile(
         &run.scenario,
         &crate::regional::recorded_input(input),
