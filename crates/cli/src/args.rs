@@ -109,6 +109,14 @@ pub enum Command {
         /// goes farther is simulated again on a halo twice as wide.
         #[arg(long, value_name = "H", requires = "tiling", value_parser = parse_positive_m)]
         halo_m: Option<f64>,
+        /// The region's tile index (with --tile or --tiles): read when it exists, written
+        /// when it does not or is out of date. It holds the release raster's source cells
+        /// counted per row and block and the digest of the input files, so that a tile reads
+        /// its own rows of the release raster and hashes no input file instead of reading the
+        /// whole region. Every part is used only while its files keep their size and
+        /// modification time.
+        #[arg(long, value_name = "FILE", requires = "tiling")]
+        tile_index: Option<PathBuf>,
         /// Continue the interrupted run whose output folder is DIR (its checkpoint.tally),
         /// with the input, seed and rocks it started with; ends bit-identical to an
         /// uninterrupted run.

@@ -56,6 +56,7 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
             tiles,
             tile_size_m,
             halo_m,
+            tile_index,
             resume,
         } => {
             if let Some(dir) = resume {
@@ -87,8 +88,10 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
                 size_m: tile_size_m,
                 halo_m: halo_m.unwrap_or(rockfall_sim::tile::DEFAULT_HALO_M),
             };
+            let index = crate::region_index::RegionIndex::new(tile_index);
             if let Some(t) = tile {
-                return crate::tiles::run(&input, &overrides, &spec(t.index, t.count), &out);
+                let spec = spec(t.index, t.count);
+                return crate::tiles::run(&input, &overrides, &spec, &index, &out);
             }
             if let Some(n) = tiles {
                 if let Some(tol) = until_stable {
@@ -96,9 +99,10 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
                 }
                 #[cfg(feature = "mpi")]
                 if crate::mpi_run::launched() {
-                    return crate::mpi_tiles::run(&input, &overrides, &spec(1, n), &out, ascii);
+                    let spec = spec(1, n);
+                    return crate::mpi_tiles::run(&input, &overrides, &spec, &index, &out, ascii);
                 }
-                return crate::tiles::run_all(&input, &overrides, &spec(1, n), &out, ascii);
+                return crate::tiles::run_all(&input, &overrides, &spec(1, n), &index, &out, ascii);
             }
             #[cfg(feature = "mpi")]
             if crate::mpi_run::launched() {

@@ -10,6 +10,7 @@ mod lab;
 mod mpi_run;
 #[cfg(feature = "mpi")]
 mod mpi_tiles;
+mod region_index;
 mod regional;
 mod schema;
 mod simulate;

@@ -32,6 +32,7 @@ pub fn run(
     input: &Path,
     overrides: &Overrides,
     spec: &TileSpec,
+    index: &crate::region_index::RegionIndex,
     out: &Path,
     ascii: bool,
 ) -> Result<(), Failure> {
@@ -56,9 +57,8 @@ pub fn run(
     // rank 0 keeps the run and decides after every batch; the others follow its verdict
     let mut run = TiledRun::default();
     let mut range = run.next_batch();
-    let fingerprint = std::cell::OnceCell::new();
     while let Some(r) = range {
-        let mine = own_tiles(input, overrides, spec, &tiles, r, &fingerprint, observer)
+        let mine = own_tiles(input, overrides, spec, &tiles, r, index, observer)
             .map_err(|f| (code(&f), format!("rank {rank}: {}", f.text())));
         // 0: next batch from .. to; 1: over; 2: failed (rank 0 reports)
         let mut verdict: [u64; 3] = [1, 0, 0];

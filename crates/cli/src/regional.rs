@@ -152,8 +152,11 @@ fn reload(
     let path = input.map_or_else(|| PathBuf::from(&record.input), Path::to_path_buf);
     let sim = load_simulation(&path, &overrides_of(record, threads)?)?;
     let now = match record.fingerprint.starts_with("tiles-") {
-        true => rockfall_sim::share::tile_fingerprint(sim.scenario())
-            .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", path.display())))?,
+        true => {
+            let digest = rockfall_sim::share::input_digest(sim.scenario())
+                .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", path.display())))?;
+            rockfall_sim::share::tile_fingerprint(sim.scenario(), digest)
+        }
         false => rockfall_sim::share::fingerprint(sim.scenario()),
     };
     if now != record.fingerprint {

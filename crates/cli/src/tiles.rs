@@ -14,8 +14,8 @@ use rockfall_sim::{
     per_release, share,
 };
 
+use crate::region_index::RegionIndex;
 use serde::Serialize;
-use std::cell::OnceCell;
 use std::path::Path;
 
 /// What `tile.json` says about a tile's run.
@@ -46,16 +46,10 @@ pub fn run(
     input: &Path,
     overrides: &Overrides,
     spec: &TileSpec,
+    index: &RegionIndex,
     out: &Path,
 ) -> Result<(), Failure> {
-    let (run, record) = simulate_tile(
-        input,
-        overrides,
-        spec,
-        None,
-        &Default::default(),
-        &Console::default(),
-    )?;
+    let (run, record) = simulate_tile(input, overrides, spec, None, index, &Console::default())?;
     let internal =
         |e: &dyn std::fmt::Display, p: &Path| Failure::Internal(anyhow!("{}: {e}", p.display()));
     std::fs::create_dir_all(out).map_err(|e| internal(&e, out))?;
@@ -81,23 +75,15 @@ pub fn run_all(
     input: &Path,
     overrides: &Overrides,
     spec: &TileSpec,
+    index: &RegionIndex,
     out: &Path,
     ascii: bool,
 ) -> Result<(), Failure> {
     let console = Console::default();
     let mut run = TiledRun::default();
     let tiles: Vec<u64> = (1..=spec.count).collect();
-    let fingerprint = OnceCell::new();
     while let Some(range) = run.next_batch() {
-        let batch = own_tiles(
-            input,
-            overrides,
-            spec,
-            &tiles,
-            range,
-            &fingerprint,
-            &console,
-        )?;
+        let batch = own_tiles(input, overrides, spec, &tiles, range, index, &console)?;
         let Some(batch) = batch else { break };
         if run.add(batch)? {
             break;
@@ -108,21 +94,21 @@ pub fn run_all(
 
 /// The tiles `tiles` of the region, each run on the rocks of indices `range` of its
 /// releases (a batch of a convergence run; all its rocks otherwise), folded into one part.
-/// `fingerprint` holds the region's tile fingerprint once computed: the same for every
-/// tile and batch, it hashes the input files once per run.
+/// `index` is the region's tile index: the release raster is scanned and the input files
+/// hashed once per run (or not at all, with an index file).
 pub fn own_tiles(
     input: &Path,
     overrides: &Overrides,
     spec: &TileSpec,
     tiles: &[u64],
     range: (u64, u64),
-    fingerprint: &OnceCell<String>,
+    index: &RegionIndex,
     observer: &dyn Observer,
 ) -> Result<Option<Part>, Failure> {
     let mut acc: Option<Part> = None;
-    for &index in tiles {
-        let spec = TileSpec { index, ..*spec };
-        let part = tile_part(input, overrides, &spec, range, fingerprint, observer)?;
+    for &k in tiles {
+        let spec = TileSpec { index: k, ..*spec };
+        let part = tile_part(input, overrides, &spec, range, index, observer)?;
         acc = Some(match acc {
             None => part,
             Some(a) => combine(a, part).map_err(|e| Failure::Internal(e.into()))?,
@@ -226,7 +212,7 @@ pub fn tile_part(
     overrides: &Overrides,
     spec: &TileSpec,
     range: (u64, u64),
-    fingerprint: &OnceCell<String>,
+    index: &RegionIndex,
     observer: &dyn Observer,
 ) -> Result<Part, Failure> {
     let select = |s: &rockfall_scenario::Scenario, r: &rockfall_sim::Releases| match s
@@ -236,8 +222,7 @@ pub fn tile_part(
         Some(_) => batch_rocks(r, range.0, range.1),
         None => r.rock_set(),
     };
-    let (run, record) =
-        simulate_tile(input, overrides, spec, Some(&select), fingerprint, observer)?;
+    let (run, record) = simulate_tile(input, overrides, spec, Some(&select), index, observer)?;
     print(&run.scenario.name, &report(spec, &run));
     let name = std::path::PathBuf::from(format!("tile {spec}"));
     let saved = SavedTally {
@@ -255,7 +240,7 @@ fn simulate_tile(
     overrides: &Overrides,
     spec: &TileSpec,
     select: Option<&SelectRocks<'_>>,
-    fingerprint: &OnceCell<String>,
+    index: &RegionIndex,
     observer: &dyn Observer,
 ) -> Result<(TileRun, RunRecord), Failure> {
     let region = rockfall_io::region_geometry(input)?;
@@ -268,8 +253,12 @@ fn simulate_tile(
             message,
         }
     };
-    let load = |core, window| {
-        let s = rockfall_io::load_tile(input, core, window).map_err(|e| fail(e.into()))?;
+    let load = |core: rockfall_raster::Window, window| {
+        let rows = core.row0..core.row0 + core.nrows;
+        let counts = index.counts(rows).map_err(fail)?;
+        let (s, scanned) =
+            rockfall_io::load_tile(input, core, window, counts).map_err(|e| fail(e.into()))?;
+        index.scanned(scanned);
         let tolerance = overrides.until_stable_pct.or(s.simulation.until_stable_pct);
         if select.is_none() && tolerance.is_some() {
             // one tile alone cannot tell when the region's maps are stable
@@ -289,14 +278,8 @@ fn simulate_tile(
         }
     })?;
     // of the scenario as simulated (overrides applied), as `merge` computes it to reload it
-    let fingerprint = match fingerprint.get() {
-        Some(f) => f.clone(),
-        None => {
-            let f = share::tile_fingerprint(&run.scenario)
-                .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", input.display())))?;
-            fingerprint.get_or_init(|| f).clone()
-        }
-    };
+    let fingerprint = share::tile_fingerprint(&run.scenario, index.digest(&run.scenario)?);
+    index.save()?;
     let record = RunRecord::of_tile(
         &run.scenario,
         &crate::regional::recorded_input(input),

@@ -216,6 +216,96 @@ fn tiles_of_a_rigid_engine_run_merge_into_the_single_run() {
 }
 
 #[test]
+fn tiles_with_an_index_file_read_it_instead_of_the_region_and_merge_the_same() {
+    let (tmp, scenario) = region();
+    let index = tmp.path().join("region.index");
+    let tile = |i: usize, index: &Path, out: &Path| {
+        rockfall(&[
+            "run",
+            s(&scenario),
+            "--rocks-per-cell",
+            "2",
+            "--tile",
+            &format!("{i}/4"),
+            "--halo-m",
+            "60",
+            "--tile-index",
+            s(index),
+            "--out",
+            s(out),
+        ])
+    };
+    let modified = |p: &Path| std::fs::metadata(p).unwrap().modified().unwrap();
+    let mut dirs = Vec::new();
+    for i in 1..=4 {
+        let dir = tmp.path().join(format!("tile{i}"));
+        ok(tile(i, &index, &dir));
+        if i == 1 {
+            assert!(index.exists(), "the first tile writes the index");
+        }
+        dirs.push(dir);
+    }
+    let first = modified(&index);
+    let again = tmp.path().join("again");
+    ok(tile(3, &index, &again));
+    assert_eq!(
+        modified(&index),
+        first,
+        "a tile that finds the index rewrites it"
+    );
+    let merged = tmp.path().join("merged");
+    let mut args = vec!["merge"];
+    args.extend(dirs.iter().map(|d| s(d)));
+    args.extend(["--out", s(&merged)]);
+    ok(rockfall(&args));
+    let all = tmp.path().join("all");
+    let run_all = |index: &Path| {
+        ok(rockfall(&[
+            "run",
+            s(&scenario),
+            "--rocks-per-cell",
+            "2",
+            "--tiles",
+            "4",
+            "--halo-m",
+            "60",
+            "--tile-index",
+            s(index),
+            "--out",
+            s(&all),
+        ]))
+    };
+    run_all(&tmp.path().join("fresh.index"));
+    same_outputs(&all, &merged);
+    // the release raster written again (same cells, another modification time): the index
+    // is out of date, computed again and rewritten; the tile's rocks are the same
+    let release = scenario.with_file_name("release.tif");
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    std::fs::write(&release, std::fs::read(&release).unwrap()).unwrap();
+    let rerun = tmp.path().join("rerun");
+    ok(tile(2, &index, &rerun));
+    assert_ne!(
+        modified(&index),
+        first,
+        "an index out of date is written again"
+    );
+    assert_eq!(
+        json(&rerun.join("tile.json"))["rocks"],
+        json(&dirs[1].join("tile.json"))["rocks"]
+    );
+    run_all(&index);
+    same_outputs(&all, &merged);
+    // a file that is not an index
+    let stranger = tmp.path().join("stranger.index");
+    std::fs::write(&stranger, "not an index").unwrap();
+    bad_input(
+        tile(1, &stranger, &tmp.path().join("x")),
+        &["stranger.index", "not a rockfall tile index"],
+    );
+    assert!(!tmp.path().join("x").exists(), "nothing written");
+}
+
+#[test]
 fn bad_tile_flags_and_incomplete_tiles_exit_2() {
     let (tmp, scenario) = region();
     let out = tmp.path().join("out");
@@ -249,6 +339,7 @@ fn bad_tile_flags_and_incomplete_tiles_exit_2() {
         &["cannot be used with"],
     );
     bad_input(run(&["--halo-m", "100"]), &["--tile"]);
+    bad_input(run(&["--tile-index", "region.index"]), &["--tile"]);
     bad_input(
         run(&["--tile", "1/4", "--until-stable", "2"]),
         &["cannot be used with"],

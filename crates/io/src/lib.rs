@@ -24,6 +24,7 @@ pub mod scenario_file;
 mod schema;
 pub mod schema_doc;
 pub mod shape;
+pub mod tile_index;
 pub mod trees;
 pub mod vector;
 mod volume_distribution;
@@ -56,19 +57,24 @@ pub fn region_geometry(path: &Path) -> Result<rockfall_raster::GridGeometry, Inp
 /// [`load`] as the spatial tile of its region released from the cells of `core`, its grids
 /// holding `window` (see [`rockfall_scenario::Scenario::tile`]): a scenario file's rasters
 /// are read over the window only; a Rockyfor3D folder (ASCII grids) is read whole and cut.
+///
+/// `counts` are a tile index's counts of the release raster (see
+/// [`scenario_file::read_scenario_tile`]); returned with the scenario: the release raster's
+/// counts when it was scanned whole.
 pub fn load_tile(
     path: &Path,
     core: rockfall_raster::Window,
     window: rockfall_raster::Window,
-) -> Result<Scenario, InputError> {
+    counts: Option<std::sync::Arc<tile_index::ReleaseCounts>>,
+) -> Result<(Scenario, Option<tile_index::ReleaseCounts>), InputError> {
     if path.is_dir() {
         let mut s = rockyfor::read_folder(path)?;
         s.cut_to_tile(core, window)
             .map_err(|e| scenario_error(e, &s.sources, path))?;
-        return Ok(s);
+        return Ok((s, None));
     }
     load_kind(path)?;
-    scenario_file::read_scenario_tile(path, core, window)
+    scenario_file::read_scenario_tile(path, core, window, counts)
 }
 
 /// Checks that `path` is a scenario file (the errors of [`load`] otherwise).

@@ -17,6 +17,7 @@ mod rock;
 mod settings;
 mod tile;
 
+use crate::tile_index::ReleaseCounts;
 use settings::{output, rigid, simulation};
 use tile::{TileRead, windowed};
 pub use tile::{read_dem_geometry, read_scenario_tile};
@@ -48,10 +49,16 @@ fn parse_toml(text: &str, path: &Path) -> Result<schema::File, InputError> {
 /// [`read_scenario`] on a scenario file's text already read: `path` names it in errors and
 /// its folder is where the files it names are found.
 pub fn parse_scenario(text: &str, path: &Path) -> Result<Scenario, InputError> {
-    parse(text, path, None)
+    Ok(parse(text, path, None)?.0)
 }
 
-fn parse(text: &str, path: &Path, tile: Option<TileRead>) -> Result<Scenario, InputError> {
+/// The scenario of a scenario file's text, and when reading a tile, the release raster's
+/// counts if it was scanned whole.
+fn parse(
+    text: &str,
+    path: &Path,
+    tile: Option<TileRead>,
+) -> Result<(Scenario, Option<ReleaseCounts>), InputError> {
     let file = parse_toml(text, path)?;
     let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let mut r = Resolver {
@@ -64,7 +71,9 @@ fn parse(text: &str, path: &Path, tile: Option<TileRead>) -> Result<Scenario, In
         tile,
     };
     let mut scenario = r.build(file, path)?;
+    let mut built = None;
     if let Some(t) = r.tile.take() {
+        built = t.built;
         let (region_source_cells, ordinals) = t.found.unwrap_or_default();
         scenario.tile = Some(Box::new(rockfall_scenario::TileFrame {
             core: t.core,
@@ -77,7 +86,7 @@ fn parse(text: &str, path: &Path, tile: Option<TileRead>) -> Result<Scenario, In
     scenario
         .validate()
         .map_err(|e| scenario_error(e, &scenario.sources, path))?;
-    Ok(scenario)
+    Ok((scenario, built))
 }
 
 /// Reads rasters relative to the scenario's folder and records where every parameter came

@@ -73,11 +73,10 @@ fn settled(s: &rockfall_scenario::SimulationSettings) -> rockfall_scenario::Simu
 /// The fingerprint of a region's run as its spatial tiles record it (`tiles-` and 16 hex
 /// digits): the same for every tile and for the whole run, whose grids and release cells
 /// differ from a tile's. FNV-1a over the parts of [`fingerprint`] other than the grids,
-/// release cells and stands, the DEM's grid, and the bytes of every file the scenario was
-/// read from (in the order of their keys).
-pub fn tile_fingerprint(scenario: &Scenario) -> std::io::Result<String> {
+/// release cells and stands, the DEM's grid, and the [`input_digest`] of the files the
+/// scenario was read from (`digest`; a tile index keeps it, see `rockfall_io::tile_index`).
+pub fn tile_fingerprint(scenario: &Scenario, digest: u64) -> String {
     use std::fmt::Write;
-    use std::io::Read;
     let s = scenario;
     let mut h = Fnv1a::default();
     let r = &s.release;
@@ -101,8 +100,18 @@ pub fn tile_fingerprint(scenario: &Scenario) -> std::io::Result<String> {
         s.forest.is_some(),
         s.nets.is_some(),
     );
+    h.bytes(&digest.to_le_bytes());
+    format!("tiles-{:016x}", h.0)
+}
+
+/// FNV-1a over the key and the bytes of every file `scenario` was read from, in the order of
+/// their keys.
+pub fn input_digest(scenario: &Scenario) -> std::io::Result<u64> {
+    use std::fmt::Write;
+    use std::io::Read;
+    let mut h = Fnv1a::default();
     let mut buf = vec![0u8; 1 << 20];
-    for (key, path) in &s.sources {
+    for (key, path) in &scenario.sources {
         let _ = write!(h, "|{key}");
         let mut f = std::fs::File::open(path)?;
         loop {
@@ -113,5 +122,5 @@ pub fn tile_fingerprint(scenario: &Scenario) -> std::io::Result<String> {
             h.bytes(&buf[..n]);
         }
     }
-    Ok(format!("tiles-{:016x}", h.0))
+    Ok(h.0)
 }

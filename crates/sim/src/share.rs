@@ -18,7 +18,7 @@ use rockfall_results::{Layout, RunInfo, SavedTally, Tally};
 use rockfall_scenario::Scenario;
 
 use crate::batches::BatchState;
-pub use crate::fingerprint::{fingerprint, tile_fingerprint};
+pub use crate::fingerprint::{fingerprint, input_digest, tile_fingerprint};
 use serde::{Deserialize, Serialize};
 
 /// Share `index` (1-based) of `count` equal shares of a run's rocks.

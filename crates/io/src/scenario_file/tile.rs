@@ -2,30 +2,36 @@
 
 use super::{Resolver, parse, parse_toml};
 use crate::InputError;
+use crate::tile_index::ReleaseCounts;
 use rockfall_raster::{Grid, GridGeometry, Window, read_geometry, read_grid, read_grid_window};
 use rockfall_scenario::Scenario;
 use std::path::Path;
+use std::sync::Arc;
 
 /// Reads and validates a scenario file as the spatial tile of its region released from the
 /// cells of `core`: every raster is read over `window` only (the core and its halo; a
 /// GeoTIFF decodes only the tiles or strips it touches), the release raster is scanned for
 /// the numbers of the core's source cells among the region's, and vector layers are burnt
 /// on the region's grid and cut to the window. See [`Scenario::tile`].
+///
+/// `counts` are the tile index's counts of the release raster: used while the raster has
+/// the size and modification time they were counted from. Returned: the scenario, and the
+/// counts of the release raster when it was scanned whole (no usable counts given).
 pub fn read_scenario_tile(
     path: &Path,
     core: Window,
     window: Window,
-) -> Result<Scenario, InputError> {
+    counts: Option<Arc<ReleaseCounts>>,
+) -> Result<(Scenario, Option<ReleaseCounts>), InputError> {
     let text = std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))?;
-    parse(
-        &text,
-        path,
-        Some(TileRead {
-            core,
-            window,
-            found: None,
-        }),
-    )
+    let tile = TileRead {
+        core,
+        window,
+        found: None,
+        counts,
+        built: None,
+    };
+    parse(&text, path, Some(tile))
 }
 
 /// The grid of the DEM a scenario file names, read from the DEM's header.
@@ -49,6 +55,10 @@ pub(super) struct TileRead {
     pub(super) core: Window,
     pub(super) window: Window,
     pub(super) found: Option<(u64, Vec<u64>)>,
+    /// The tile index's counts of the release raster, if any.
+    pub(super) counts: Option<Arc<ReleaseCounts>>,
+    /// The release raster's counts when it was scanned whole.
+    pub(super) built: Option<ReleaseCounts>,
 }
 
 /// The raster `path` holding `window` only, on its whole grid; a raster whose grid the window
