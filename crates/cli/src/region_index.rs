@@ -69,13 +69,14 @@ impl RegionIndex {
     }
 
     /// The digest of the files `scenario` was read from
-    /// (`rockfall_sim::share::input_digest`): the index's while every file has the size and
-    /// modification time it had when hashed, computed again otherwise.
+    /// (`rockfall_sim::share::input_digest`): the index's while every file has the stamp it
+    /// had when hashed, computed again otherwise.
     pub fn digest(&self, scenario: &Scenario) -> Result<u64, Failure> {
         let same = |(_, files): &Inputs| {
             files.len() == scenario.sources.len()
-                && (files.iter().zip(&scenario.sources))
-                    .all(|((k, s), (key, path))| k == key && s.path == *path && s.current())
+                && (files.iter().zip(&scenario.sources)).all(|((k, s), (key, path))| {
+                    k == key && FileStamp::of(path).is_ok_and(|now| now == *s)
+                })
         };
         if let Some(held) = self.inputs.borrow().as_ref().filter(|i| same(i)) {
             return Ok(held.0);
@@ -90,30 +91,33 @@ impl RegionIndex {
         Ok(digest)
     }
 
-    /// Writes the index to its file, if it has one and something was computed since.
-    pub fn save(&self) -> Result<(), Failure> {
+    /// Writes the index to its file, if it has one and something was computed since. A
+    /// failure to write it is a warning: the tile's results do not depend on it.
+    pub fn save(&self) {
         let Some(file) = &self.file else {
-            return Ok(());
+            return;
         };
         if !self.changed.replace(false) {
-            return Ok(());
+            return;
         }
         let mut release = self.release.borrow().as_deref().cloned();
         if let Some(c) = &release
             && !c.holds(0..c.nrows)
         {
-            // counts read for one tile's rows: the file's whole counts are written back
-            release = TileIndex::read(file, None)?.release;
+            // counts read for one tile's rows: the file's whole counts are written back (none
+            // if it is gone: the next tile counts them again)
+            release = TileIndex::read(file, None).ok().and_then(|i| i.release);
         }
         let index = TileIndex {
             release,
             inputs: self.inputs.borrow().clone(),
         };
-        index.write(file).map_err(|e| {
-            Failure::BadInput(anyhow!(
-                "{}: cannot write the tile index: {e}",
+        if let Err(e) = index.write(file) {
+            eprintln!(
+                "warning: {}: cannot write the tile index ({e}); the tiles read the region \
+                 whole instead",
                 file.display()
-            ))
-        })
+            );
+        }
     }
 }

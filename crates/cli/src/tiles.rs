@@ -279,7 +279,7 @@ fn simulate_tile(
     })?;
     // of the scenario as simulated (overrides applied), as `merge` computes it to reload it
     let fingerprint = share::tile_fingerprint(&run.scenario, index.digest(&run.scenario)?);
-    index.save()?;
+    index.save();
     let record = RunRecord::of_tile(
         &run.scenario,
         &crate::regional::recorded_input(input),

@@ -8,9 +8,12 @@
 //! - The digest of the input files' bytes that the tiles' fingerprint holds, with the size and
 //!   modification time of each file it was computed from.
 //!
-//! Every part is used only while the files it was computed from keep their size and
-//! modification time (ns); otherwise it is computed again. Ours: the stamps are what `make`
-//! and `cargo` trust; hashing the region's files again in every tile is what the index saves.
+//! Every part is used only while the files it was computed from keep their path, size,
+//! modification time, status-change time and inode ([`FileStamp`]); otherwise it is computed
+//! again. Ours: `make` and `cargo` trust the modification time alone; the status-change time
+//! (which copying a file's times with `cp -p`, `rsync -t` or `touch -r` cannot set) and the
+//! inode catch a file replaced by another with the same size and times. Hashing the region's
+//! files again in every tile is what the index saves.
 
 use crate::InputError;
 use std::io::{Read, Seek, SeekFrom, Write};
@@ -19,17 +22,21 @@ use std::path::{Path, PathBuf};
 /// Columns per block of [`ReleaseCounts`] (the tile size of the GeoTIFFs `rockfall` writes).
 pub const BLOCK_COLS: usize = 256;
 
-const MAGIC: &[u8] = b"rockfall tile index 1\n";
+const MAGIC: &[u8] = b"rockfall tile index 2\n";
 
-/// A file's size and modification time, to tell whether it changed.
+/// What tells whether a file changed: its canonical path, size, times and inode.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct FileStamp {
-    /// The file, as the scenario named it.
+    /// The file's canonical path (however the scenario spelt it).
     pub path: PathBuf,
     /// Size, bytes.
     pub len: u64,
     /// Modification time, ns since the Unix epoch.
     pub modified_ns: u128,
+    /// Status-change time (ctime), ns since the Unix epoch (0 where there is none).
+    pub changed_ns: u128,
+    /// Device and inode (0 where there are none).
+    pub inode: [u64; 2],
 }
 
 impl FileStamp {
@@ -39,16 +46,21 @@ impl FileStamp {
         let modified_ns = (m.modified()?)
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |d| d.as_nanos());
+        #[cfg(unix)]
+        let (changed_ns, inode) = {
+            use std::os::unix::fs::MetadataExt;
+            let ns = (m.ctime().max(0) as u128) * 1_000_000_000 + m.ctime_nsec().max(0) as u128;
+            (ns, [m.dev(), m.ino()])
+        };
+        #[cfg(not(unix))]
+        let (changed_ns, inode) = (0, [0, 0]);
         Ok(FileStamp {
-            path: path.to_path_buf(),
+            path: std::fs::canonicalize(path)?,
             len: m.len(),
             modified_ns,
+            changed_ns,
+            inode,
         })
-    }
-
-    /// Whether the file still has this size and modification time.
-    pub fn current(&self) -> bool {
-        FileStamp::of(&self.path).is_ok_and(|now| now == *self)
     }
 }
 
@@ -116,7 +128,8 @@ impl ReleaseCounts {
             && rows.end <= self.nrows
     }
 
-    /// Source cells of row `row` (held) in the blocks left of column `col`'s block.
+    /// Source cells before column `col`'s block in row-major order: those of the rows before
+    /// `row` and those of row `row` (held) in the blocks left of `col`'s.
     pub fn before_block(&self, row: usize, col: usize) -> u64 {
         let nb = self.blocks_per_row();
         let start = (row - self.first_row) * nb;
@@ -155,13 +168,16 @@ impl TileIndex {
             )
         };
         let file = std::fs::File::open(path).map_err(|e| InputError::io(path, e))?;
+        let len = (file.metadata())
+            .map_err(|e| InputError::io(path, e))?
+            .len();
         let mut f = std::io::BufReader::new(file);
         let mut magic = vec![0u8; MAGIC.len()];
         f.read_exact(&mut magic).map_err(|_| bad("too short"))?;
         if magic != MAGIC {
             return Err(bad("its first line differs"));
         }
-        read_index(&mut f, rows).map_err(|e| bad(&e.to_string()))
+        read_index(&mut f, len, rows).map_err(|e| bad(&e.to_string()))
     }
 
     /// Writes the index to `path` (its folder created if needed) through a temporary file
@@ -170,11 +186,18 @@ impl TileIndex {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir)?;
         }
+        // unique among processes writing at once, even on several hosts with equal pids
+        let nanos = (std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH))
+            .map_or(0, |d| d.as_nanos());
         let mut name = path.file_name().unwrap_or_default().to_os_string();
-        name.push(format!(".tmp{}", std::process::id()));
+        name.push(format!(".tmp.{}.{nanos}", std::process::id()));
         let tmp = path.with_file_name(name);
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)?;
         let result = (|| {
-            let mut f = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
+            let mut f = std::io::BufWriter::new(file);
             f.write_all(MAGIC)?;
             write_index(&mut f, self)?;
             f.into_inner().map_err(|e| e.into_error())?.sync_all()?;
@@ -219,10 +242,14 @@ fn write_index(f: &mut impl Write, ix: &TileIndex) -> std::io::Result<()> {
     Ok(())
 }
 
+/// The index after its first line, from a file of `len` bytes; release counts whose grid does
+/// not hold `rows` (a region of another size) are left out, as out of date.
 fn read_index<R: Read + Seek>(
     f: &mut R,
+    len: u64,
     rows: Option<std::ops::Range<usize>>,
 ) -> std::io::Result<TileIndex> {
+    let bad = |m: &str| std::io::Error::other(m.to_string());
     let inputs = match get_u8(f)? {
         0 => None,
         _ => {
@@ -242,22 +269,50 @@ fn read_index<R: Read + Seek>(
         });
     }
     let stamp = get_stamp(f)?;
-    let (ncols, nrows) = (get_u64(f)? as usize, get_u64(f)? as usize);
-    let nb = ncols.div_ceil(BLOCK_COLS);
-    let rows = rows.unwrap_or(0..nrows);
-    if rows.start > rows.end || rows.end > nrows || nrows.checked_mul(nb).is_none() {
-        return Err(std::io::Error::other("rows out of its grid"));
+    let (ncols, nrows) = (get_u64(f)?, get_u64(f)?);
+    let nb = ncols.div_ceil(BLOCK_COLS as u64);
+    // the counts' size, checked against the file's before anything is allocated
+    let here = f.stream_position()?;
+    let need = (nrows.checked_add(1).and_then(|n| n.checked_mul(8)))
+        .zip(nrows.checked_mul(nb).and_then(|n| n.checked_mul(4)))
+        .and_then(|(a, b)| a.checked_add(b)?.checked_add(here));
+    if need != Some(len) {
+        return Err(bad("its length does not match its grid"));
     }
-    let mut row_start = Vec::with_capacity(nrows + 1);
-    for _ in 0..=nrows {
-        row_start.push(get_u64(f)?);
+    let (ncols, nrows, nb) = (ncols as usize, nrows as usize, nb as usize);
+    let rows = rows.unwrap_or(0..nrows);
+    if rows.start > rows.end || rows.end > nrows {
+        // a region of another size: out of date
+        return Ok(TileIndex {
+            release: None,
+            inputs,
+        });
+    }
+    let mut starts = vec![0u8; (nrows + 1) * 8];
+    f.read_exact(&mut starts)?;
+    let row_start: Vec<u64> = (starts.chunks_exact(8))
+        .map(|b| u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]))
+        .collect();
+    if row_start[0] != 0 || row_start.windows(2).any(|w| w[1] < w[0]) {
+        return Err(bad("its row counts decrease"));
     }
     f.seek(SeekFrom::Current((rows.start * nb * 4) as i64))?;
     let mut bytes = vec![0u8; (rows.end - rows.start) * nb * 4];
     f.read_exact(&mut bytes)?;
-    let blocks = (bytes.chunks_exact(4))
+    let blocks: Vec<u32> = (bytes.chunks_exact(4))
         .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
         .collect();
+    for (k, row) in rows.clone().enumerate() {
+        let sum: u64 = blocks[k * nb..(k + 1) * nb]
+            .iter()
+            .map(|&n| u64::from(n))
+            .sum();
+        if sum != row_start[row + 1] - row_start[row] {
+            return Err(bad(&format!(
+                "row {row}: its blocks do not add up to its count"
+            )));
+        }
+    }
     Ok(TileIndex {
         release: Some(ReleaseCounts {
             stamp,
@@ -284,7 +339,10 @@ fn put_stamp(f: &mut impl Write, s: &FileStamp) -> std::io::Result<()> {
     let path = (s.path.to_str()).ok_or_else(|| std::io::Error::other("a path not in UTF-8"))?;
     put_str(f, path)?;
     put_u64(f, s.len)?;
-    f.write_all(&s.modified_ns.to_le_bytes())
+    f.write_all(&s.modified_ns.to_le_bytes())?;
+    f.write_all(&s.changed_ns.to_le_bytes())?;
+    put_u64(f, s.inode[0])?;
+    put_u64(f, s.inode[1])
 }
 
 fn get_u8(f: &mut impl Read) -> std::io::Result<u8> {
@@ -314,10 +372,14 @@ fn get_stamp(f: &mut impl Read) -> std::io::Result<FileStamp> {
     let len = get_u64(f)?;
     let mut b = [0u8; 16];
     f.read_exact(&mut b)?;
+    let modified_ns = u128::from_le_bytes(b);
+    f.read_exact(&mut b)?;
     Ok(FileStamp {
         path,
         len,
-        modified_ns: u128::from_le_bytes(b),
+        modified_ns,
+        changed_ns: u128::from_le_bytes(b),
+        inode: [get_u64(f)?, get_u64(f)?],
     })
 }
 
@@ -330,6 +392,8 @@ mod tests {
             path: "release.tif".into(),
             len: 7,
             modified_ns: 1 << 70,
+            changed_ns: 1 << 71,
+            inode: [3, 4],
         };
         // 3 rows of 600 columns: blocks of 256, 256, 88
         let mut c = ReleaseCounts::start(stamp, 600, 3);
@@ -379,7 +443,29 @@ mod tests {
         assert!(c.holds(1..2) && !c.holds(0..2) && !c.holds(1..3));
         assert_eq!(c.before_block(1, 300), 4);
         assert_eq!(c.total(), 7);
-        assert!(TileIndex::read(&path, Some(2..4)).is_err());
+        let other = TileIndex::read(&path, Some(2..4)).unwrap();
+        assert!(
+            other.release.is_none(),
+            "counts of a smaller region are out of date"
+        );
+        assert_eq!(other.inputs, index.inputs);
+        // a truncated or grown file, counts that do not add up, a huge grid: refused
+        let bytes = std::fs::read(&path).unwrap();
+        let n = bytes.len();
+        let mut wrong = bytes.clone();
+        wrong[n - 4] += 1; // row 2, block 2
+        let huge = (u64::MAX / 2).to_le_bytes();
+        let grid_at = n - (4 * 8 + 3 * 3 * 4) - 16;
+        let mut vast = bytes.clone();
+        vast[grid_at..grid_at + 8].copy_from_slice(&huge);
+        for (k, b) in [&bytes[..n - 1], &[&bytes[..], &[0]].concat(), &wrong, &vast]
+            .into_iter()
+            .enumerate()
+        {
+            std::fs::write(&path, b).unwrap();
+            let e = TileIndex::read(&path, None).map(|_| ());
+            assert!(e.is_err(), "case {k} read");
+        }
         std::fs::write(&path, b"rockfall tally\n").unwrap();
         let e = TileIndex::read(&path, None).unwrap_err().to_string();
         assert!(
@@ -390,15 +476,28 @@ mod tests {
     }
 
     #[test]
-    fn a_stamp_is_current_until_its_file_changes() {
+    fn a_stamp_holds_until_its_file_changes_even_with_its_size_and_times_restored() {
         let dir = std::env::temp_dir().join(format!("rockfall-stamp-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
         let path = dir.join("a.txt");
         std::fs::write(&path, b"one").unwrap();
         let stamp = FileStamp::of(&path).unwrap();
-        assert!(stamp.current());
-        std::fs::write(&path, b"three").unwrap();
-        assert!(!stamp.current());
+        // the same file however spelt
+        assert_eq!(FileStamp::of(&dir.join("sub/../a.txt")).unwrap(), stamp);
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        std::fs::write(&path, b"two").unwrap();
+        let now = FileStamp::of(&path).unwrap();
+        assert_ne!(now, stamp);
+        // same size, the old modification time put back: the status-change time differs
+        let f = std::fs::File::options().write(true).open(&path).unwrap();
+        let old = std::time::UNIX_EPOCH + std::time::Duration::from_nanos(stamp.modified_ns as u64);
+        f.set_modified(old).unwrap();
+        let restored = FileStamp::of(&path).unwrap();
+        assert_eq!(
+            (restored.len, restored.modified_ns),
+            (stamp.len, stamp.modified_ns)
+        );
+        assert_ne!(restored, stamp);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

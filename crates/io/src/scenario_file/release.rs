@@ -331,20 +331,26 @@ mod tests {
             let (_, c, o) = scan_whole(&path, &g, core, &mut scanned).unwrap();
             assert_eq!((c, o), (cells, ordinals));
         }
-        // counts of another raster (one more source cell in row 4, block 1) are refused
-        let mut wrong = ReleaseCounts::start(counts.stamp.clone(), g.ncols, g.nrows);
-        scan_whole(&path, &g, Window::whole(&g), &mut wrong).unwrap();
-        wrong.add(4, 300);
-        wrong.finish();
-        let core = Window {
-            col0: 0,
-            row0: 0,
-            ncols: 700,
-            nrows: 30,
-        };
-        let e = core_sources(&path, &g, core, &wrong)
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("row 4") && e.contains("release.tif"), "{e}");
+        // counts of another raster (one more source cell in a block) are refused, the last
+        // block of a row (88 columns) too
+        for (row, col) in [(4, 300), (7, 650)] {
+            let mut wrong = ReleaseCounts::start(counts.stamp.clone(), g.ncols, g.nrows);
+            scan_whole(&path, &g, Window::whole(&g), &mut wrong).unwrap();
+            wrong.add(row, col);
+            wrong.finish();
+            let core = Window {
+                col0: 0,
+                row0: 0,
+                ncols: 700,
+                nrows: 30,
+            };
+            let e = core_sources(&path, &g, core, &wrong)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(&format!("row {row}:")) && e.contains("release.tif"),
+                "{e}"
+            );
+        }
     }
 }
