@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Spatial tiles on the procedural region `alpine-region` (5 m cells, 1 rock per source cell):
-# every tile run one after the other with its peak memory (/usr/bin/time -v) and wall time,
+# every tile run one after the other with its peak memory (/usr/bin/time -v) and wall time
+# (the first writes the tile index, region.index, which the others read),
 # and, where the single run fits (SINGLE=1), the single run and the merge of the tiles,
 # compared file by file with bench/compare.sh.
 #
@@ -25,7 +26,7 @@ wall() { sed -n 's/.*Elapsed (wall clock) time (h:mm:ss or m:ss): //p' "$1"; }
 printf '%-6s %10s %12s %8s %10s %8s\n' tile rocks "cells reached" passes "peak MB" wall
 for i in $(seq 1 "$tiles"); do
   /usr/bin/time -v "$bin" run region/scenario.toml --rocks-per-cell 1 --threads 2 \
-    --tile "$i/$tiles" --out "t$i" > "t$i.log" 2> "t$i.time"
+    --tile "$i/$tiles" --tile-index region.index --out "t$i" > "t$i.log" 2> "t$i.time"
   python3 - "t$i/tile.json" "$i" "$(peak "t$i.time")" "$(wall "t$i.time")" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))

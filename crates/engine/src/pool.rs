@@ -79,9 +79,13 @@ pub(crate) fn run_rocks<S>(
 }
 
 /// A worker moves its per-cell statistics into the run's shared table once they cover this
-/// many cells (a few MB), so that a run holds one table of the region's reached cells and
-/// not one per worker thread. The merge is exact, so when it happens changes no result.
-const FLUSH_CELLS: usize = 1 << 14;
+/// many cells (≈ 65 MB at most at ≈ 1 kB a cell), so that a run holds one table of the
+/// region's reached cells and not one per worker thread. The merge is exact, so when it
+/// happens changes no result, only the time spent merging: a cell a worker's rocks reach
+/// again before the flush is merged once. Measured on tile 20 of 100 of a 10⁸-cell
+/// `alpine-region` (232 848 rocks, 2 threads): 2¹⁴ cells 18.5–20.6 s, 2¹⁶ 14.2–15.3 s, 2¹⁸
+/// 12.9–13.4 s for the first pass; peak 1.08, 1.08 and 1.13 GB.
+const FLUSH_CELLS: usize = 1 << 16;
 
 #[cfg(test)]
 mod tests {

@@ -156,7 +156,8 @@ pub struct TileIndex {
 
 impl TileIndex {
     /// Reads the index `path`, holding the release counts of rows `rows` only (all of them
-    /// for `None`). A file that is not a tile index is an error naming it.
+    /// for `None`). A file that is not a tile index is an error naming it; another version's
+    /// index reads as an empty one (out of date).
     pub fn read(
         path: &Path,
         rows: Option<std::ops::Range<usize>>,
@@ -175,6 +176,10 @@ impl TileIndex {
         let mut magic = vec![0u8; MAGIC.len()];
         f.read_exact(&mut magic).map_err(|_| bad("too short"))?;
         if magic != MAGIC {
+            if magic.starts_with(&MAGIC[..MAGIC.len() - 2]) {
+                // another version's index: out of date, written again
+                return Ok(TileIndex::default());
+            }
             return Err(bad("its first line differs"));
         }
         read_index(&mut f, len, rows).map_err(|e| bad(&e.to_string()))
@@ -466,6 +471,13 @@ mod tests {
             let e = TileIndex::read(&path, None).map(|_| ());
             assert!(e.is_err(), "case {k} read");
         }
+        std::fs::write(&path, b"rockfall tile index 1\nolder").unwrap();
+        let old = TileIndex::read(&path, None).unwrap();
+        assert_eq!(
+            old,
+            TileIndex::default(),
+            "another version's index is out of date"
+        );
         std::fs::write(&path, b"rockfall tally\n").unwrap();
         let e = TileIndex::read(&path, None).unwrap_err().to_string();
         assert!(

@@ -39,7 +39,7 @@
 //! neighbours (8 bytes a run) and, where rocks stopped, hit trees or passed above an energy
 //! threshold, 80 bytes more: 0.35 kB per reached cell on vaujany-site2 and 0.49 kB on a
 //! 10⁷-cell `alpine-region` (many cells visited a few times), whatever the number of rocks (`cell_statistics_bytes_per_reached_cell` of `summary.json`). A run's workers
-//! move their cells into one shared table every 16 384 cells ([`Tally::flush_cells`]), so
+//! move their cells into one shared table every 65 536 cells ([`Tally::flush_cells`]), so
 //! the threads do not multiply it. Per-screen and per-rock statistics are a few
 //! kB in all; the speed profile ([`Results::speed_profile`]) 4 kB per distance bin of one
 //! cell reached (at most 2000 bins, 8 MB). Only the recorded trajectories (rocks with `rock_id < Layout::trajectories`)
