@@ -41,6 +41,7 @@ impl Deposits {
         let frame = Frame {
             geometry: *dem.geometry(),
             crs: dem.crs().cloned(),
+            window: None,
         };
         let mut notes = Vec::new();
         let layer = open(path, None, &frame, &mut notes)?;

@@ -299,3 +299,42 @@ fn nets_as_screens_carry_the_nets_limits() {
         .collect();
     assert!(rocks_seen.len() as u64 >= stopped);
 }
+
+#[test]
+fn tiles_burn_their_windows_of_each_layer_and_merge_into_the_single_run() {
+    let (dir, scenario) = site(|s| s);
+    let single = dir.path().join("single");
+    let run = |extra: &[&str], out: &Path| {
+        let mut args = vec!["run", s(&scenario), "--threads", "1", "--out", s(out)];
+        args.extend(extra);
+        ok(rockfall(&args))
+    };
+    run(&[], &single);
+    // every tile in one process: the release layer's counts kept after the first tile
+    let all = dir.path().join("all");
+    run(&["--tiles", "4", "--halo-m", "40"], &all);
+    common::same_outputs(&single, &all);
+    // tiles as separate runs with an index file: the first burns the release layer over
+    // the region and writes the counts, the others burn their own rows only
+    let index = dir.path().join("region.index");
+    let mut dirs = Vec::new();
+    for i in 1..=4 {
+        let d = dir.path().join(format!("t{i}"));
+        let tile = format!("{i}/4");
+        let extra = ["--tile", &tile, "--halo-m", "40", "--tile-index", s(&index)];
+        run(&extra, &d);
+        dirs.push(d);
+    }
+    // a tile's layers were burnt over less than the grid (12 × 10 cells)
+    let first = json(&dirs[0].join("tile.json"));
+    assert_eq!(
+        first["passes"][0]["window"],
+        serde_json::json!([0, 0, 10, 9])
+    );
+    let merged = dir.path().join("merged");
+    let mut args = vec!["merge"];
+    args.extend(dirs.iter().map(|d| s(d)));
+    args.extend(["--out", s(&merged)]);
+    ok(rockfall(&args));
+    common::same_outputs(&single, &merged);
+}

@@ -79,6 +79,7 @@ pub fn set_release(
     let frame = Frame {
         geometry: *dem.geometry(),
         crs: dem.crs().cloned(),
+        window: None,
     };
     let mut notes = Vec::new();
     let mut layer = open(path, None, &frame, &mut notes).map_err(|e| ("release", e.to_string()))?;

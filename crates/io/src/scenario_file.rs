@@ -16,6 +16,7 @@ mod release;
 mod rock;
 mod settings;
 mod tile;
+mod tile_release;
 
 use crate::tile_index::ReleaseCounts;
 use settings::{output, rigid, simulation};
@@ -159,7 +160,7 @@ impl Resolver {
                     inputs::field_grid(&layer, &v.field, &frame, outside(param, default), param)?;
                 self.notes
                     .push(inputs::describe(param, &layer, cells, "cells covered"));
-                Ok(Field::Grid(self.fit(grid)))
+                Ok(Field::Grid(grid))
             }
         }
     }
@@ -265,6 +266,7 @@ impl Resolver {
         self.frame = Some(Frame {
             geometry: *dem_grid.geometry(),
             crs: dem_grid.crs().cloned(),
+            window: self.tile.as_ref().map(|t| t.window),
         });
         let dem_path = self.path(&t.dem);
         let dem = Dem::new(dem_grid).map_err(|e| InputError::invalid(&dem_path, e.to_string()))?;
@@ -400,9 +402,9 @@ impl Resolver {
                 }
                 let [number, energy_kj, height_m] = inputs::net_grids(&lines, &frame);
                 let nets = Nets {
-                    number: Field::Grid(self.fit(number)),
-                    energy_kj: Field::Grid(self.fit(energy_kj)),
-                    height_m: Field::Grid(self.fit(height_m)),
+                    number: Field::Grid(number),
+                    energy_kj: Field::Grid(energy_kj),
+                    height_m: Field::Grid(height_m),
                 };
                 (nets, Some(lines))
             }

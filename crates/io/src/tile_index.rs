@@ -68,8 +68,10 @@ impl FileStamp {
 /// [`BLOCK_COLS`] columns, for the rows `first_row ..` it holds.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReleaseCounts {
-    /// The release raster counted.
+    /// The release raster or vector file counted.
     pub stamp: FileStamp,
+    /// The layer of a vector file counted (empty for a raster).
+    pub layer: String,
     /// Its columns.
     pub ncols: usize,
     /// Its rows.
@@ -86,9 +88,10 @@ pub struct ReleaseCounts {
 impl ReleaseCounts {
     /// Counts of nothing yet, for a raster of `ncols` × `nrows` cells: [`Self::add`] each
     /// source cell, then [`Self::finish`].
-    pub fn start(stamp: FileStamp, ncols: usize, nrows: usize) -> ReleaseCounts {
+    pub fn start(stamp: FileStamp, layer: &str, ncols: usize, nrows: usize) -> ReleaseCounts {
         ReleaseCounts {
             stamp,
+            layer: layer.to_string(),
             ncols,
             nrows,
             row_start: vec![0; nrows + 1],
@@ -233,6 +236,7 @@ fn write_index(f: &mut impl Write, ix: &TileIndex) -> std::io::Result<()> {
     };
     f.write_all(&[1])?;
     put_stamp(f, &c.stamp)?;
+    put_str(f, &c.layer)?;
     put_u64(f, c.ncols as u64)?;
     put_u64(f, c.nrows as u64)?;
     if c.first_row != 0 || c.blocks.len() != c.nrows * c.blocks_per_row() {
@@ -274,6 +278,7 @@ fn read_index<R: Read + Seek>(
         });
     }
     let stamp = get_stamp(f)?;
+    let layer = get_str(f)?;
     let (ncols, nrows) = (get_u64(f)?, get_u64(f)?);
     let nb = ncols.div_ceil(BLOCK_COLS as u64);
     // the counts' size, checked against the file's before anything is allocated
@@ -321,6 +326,7 @@ fn read_index<R: Read + Seek>(
     Ok(TileIndex {
         release: Some(ReleaseCounts {
             stamp,
+            layer,
             ncols,
             nrows,
             row_start,
@@ -401,7 +407,7 @@ mod tests {
             inode: [3, 4],
         };
         // 3 rows of 600 columns: blocks of 256, 256, 88
-        let mut c = ReleaseCounts::start(stamp, 600, 3);
+        let mut c = ReleaseCounts::start(stamp, "", 600, 3);
         for (row, col) in [
             (0, 3),
             (0, 300),

@@ -21,6 +21,7 @@ fn data(name: &str) -> PathBuf {
 /// The grid the fixtures are drawn on: 12 × 10 cells of 10 m, EPSG:2154.
 fn frame() -> Frame {
     Frame {
+        window: None,
         geometry: GridGeometry {
             ncols: 12,
             nrows: 10,

@@ -1,6 +1,6 @@
 //! Reading a scenario file as one spatial tile of its region (`rockfall run --tile`).
 
-use super::{Resolver, parse, parse_toml};
+use super::{parse, parse_toml};
 use crate::InputError;
 use crate::tile_index::ReleaseCounts;
 use rockfall_raster::{Grid, GridGeometry, Window, read_geometry, read_grid, read_grid_window};
@@ -71,14 +71,4 @@ pub(super) fn windowed(path: &Path, window: Window) -> Result<Grid<f64>, InputEr
     let part = read_grid_window(path, &window)?;
     part.placed(whole, window)
         .ok_or_else(|| InputError::invalid(path, "the tile's window does not fit"))
-}
-
-impl Resolver {
-    /// A grid burnt on the region's grid, cut to a tile's window when reading one.
-    pub(super) fn fit(&self, grid: Grid<f64>) -> Grid<f64> {
-        match &self.tile {
-            Some(t) => rockfall_scenario::tile::cut_grid(&grid, &t.window).unwrap_or(grid),
-            None => grid,
-        }
-    }
 }

@@ -13,7 +13,7 @@
 //!   the cells whose squares a segment passes through.
 
 use super::Xy;
-use rockfall_raster::GridGeometry;
+use rockfall_raster::{GridGeometry, Window};
 
 /// Pixel coordinates (column, row; rows downwards from the grid's top) of a point.
 fn pixel(g: &GridGeometry, p: Xy) -> Xy {
@@ -27,6 +27,12 @@ fn pixel(g: &GridGeometry, p: Xy) -> Xy {
 /// The cells (row-major indices, ascending) whose centres lie inside the polygon(s) made of
 /// `rings` (exterior rings and holes together, even–odd).
 pub fn polygon_cells(g: &GridGeometry, rings: &[&[Xy]]) -> Vec<usize> {
+    polygon_cells_in(g, rings, &Window::whole(g))
+}
+
+/// [`polygon_cells`] of the cells of window `w` only (a tile's), each decided exactly as on
+/// the whole grid: the same pixel coordinates, rows and crossings, clipped.
+pub fn polygon_cells_in(g: &GridGeometry, rings: &[&[Xy]], w: &Window) -> Vec<usize> {
     let px: Vec<Vec<Xy>> = rings
         .iter()
         .map(|r| r.iter().map(|p| pixel(g, *p)).collect())
@@ -39,8 +45,10 @@ pub fn polygon_cells(g: &GridGeometry, rings: &[&[Xy]]) -> Vec<usize> {
     if !(y_lo.is_finite() && y_hi.is_finite()) {
         return Vec::new();
     }
-    let first = (y_lo - 0.5).ceil().max(0.0) as usize;
-    let last = ((y_hi - 0.5).floor().min(g.nrows as f64 - 1.0)).max(-1.0);
+    let first = ((y_lo - 0.5).ceil().max(0.0) as usize).max(w.row0);
+    let last = ((y_hi - 0.5).floor().min(g.nrows as f64 - 1.0))
+        .min((w.row0 + w.nrows) as f64 - 1.0)
+        .max(-1.0);
     let mut cells = Vec::new();
     let mut xs: Vec<f64> = Vec::new();
     let mut row = first;
@@ -58,7 +66,7 @@ pub fn polygon_cells(g: &GridGeometry, rings: &[&[Xy]]) -> Vec<usize> {
                 } else {
                     if a[1] == dy {
                         // a horizontal edge on the centre line is filled on its own
-                        fill(g, row, a[0].min(b[0]), a[0].max(b[0]), &mut cells);
+                        fill(g, w, row, a[0].min(b[0]), a[0].max(b[0]), &mut cells);
                     }
                     continue;
                 };
@@ -69,7 +77,7 @@ pub fn polygon_cells(g: &GridGeometry, rings: &[&[Xy]]) -> Vec<usize> {
         }
         xs.sort_by(f64::total_cmp);
         for pair in xs.chunks_exact(2) {
-            fill(g, row, pair[0], pair[1], &mut cells);
+            fill(g, w, row, pair[0], pair[1], &mut cells);
         }
         row += 1;
     }
@@ -79,10 +87,12 @@ pub fn polygon_cells(g: &GridGeometry, rings: &[&[Xy]]) -> Vec<usize> {
 }
 
 /// The cells of `row` whose centres lie in [x₁, x₂) (pixel coordinates), rounded as GDAL
-/// rounds: columns ⌊x₁ + ½⌋ to ⌊x₂ + ½⌋ − 1.
-fn fill(g: &GridGeometry, row: usize, x1: f64, x2: f64, cells: &mut Vec<usize>) {
-    let start = (x1 + 0.5).floor().max(0.0);
-    let end = (x2 + 0.5).floor().min(g.ncols as f64);
+/// rounds: columns ⌊x₁ + ½⌋ to ⌊x₂ + ½⌋ − 1; those of window `w`.
+fn fill(g: &GridGeometry, w: &Window, row: usize, x1: f64, x2: f64, cells: &mut Vec<usize>) {
+    let start = (x1 + 0.5).floor().max(w.col0 as f64);
+    let end = (x2 + 0.5)
+        .floor()
+        .min((w.col0 + w.ncols).min(g.ncols) as f64);
     let mut col = start as usize;
     while (col as f64) < end {
         cells.push(row * g.ncols + col);
@@ -149,5 +159,53 @@ fn segment_cells(g: &GridGeometry, a: Xy, b: Xy, cells: &mut Vec<usize>) {
         }
         push_cell(g, col, row, cells);
         k += 1.0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_window_burns_each_of_its_cells_as_the_whole_grid_does() {
+        let g = GridGeometry {
+            ncols: 40,
+            nrows: 30,
+            x_min_m: 1000.0,
+            y_min_m: 2000.0,
+            cell_size_m: 5.0,
+        };
+        // a ring with a hole, edges through cell centres and a horizontal edge on a centre
+        // line, and a thin sliver
+        let outer: Vec<Xy> = vec![
+            [1012.5, 2012.5],
+            [1180.0, 2017.5],
+            [1150.0, 2137.5],
+            [1037.5, 2137.5],
+        ];
+        let hole: Vec<Xy> = vec![[1060.0, 2050.0], [1100.0, 2050.0], [1080.0, 2100.0]];
+        let sliver: Vec<Xy> = vec![[1001.0, 2001.0], [1199.0, 2003.0], [1199.0, 2004.0]];
+        for rings in [vec![&outer[..], &hole[..]], vec![&sliver[..]]] {
+            let whole = polygon_cells(&g, &rings);
+            assert!(whole.len() >= 10, "{} cells", whole.len());
+            for (col0, row0, ncols, nrows) in [
+                (0, 0, 40, 30),
+                (3, 2, 17, 9),
+                (20, 25, 20, 5),
+                (39, 29, 1, 1),
+                (5, 5, 0, 3),
+            ] {
+                let w = Window {
+                    col0,
+                    row0,
+                    ncols,
+                    nrows,
+                };
+                let inside: Vec<usize> = (whole.iter().copied())
+                    .filter(|&c| w.contains(c / g.ncols, c % g.ncols))
+                    .collect();
+                assert_eq!(polygon_cells_in(&g, &rings, &w), inside, "window {w:?}");
+            }
+        }
     }
 }

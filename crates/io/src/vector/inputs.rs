@@ -2,10 +2,10 @@
 //! areas from polygons, stems from points, nets from lines — each checked against the DEM's
 //! CRS and extent, and described for `rockfall check`.
 
-use super::burn::{line_cells, polygon_cells};
+use super::burn::{line_cells, polygon_cells_in};
 use super::{Feature, Geometry, Layer, Value, VectorError, Xy, read_layer, same_crs};
 use rockfall_forest::Stem;
-use rockfall_raster::{Crs, Grid, GridGeometry};
+use rockfall_raster::{Crs, Grid, GridGeometry, Window};
 use std::path::Path;
 
 /// The DEM's grid and CRS, which every vector is checked against and burnt onto.
@@ -15,6 +15,34 @@ pub struct Frame {
     pub geometry: GridGeometry,
     /// The DEM's CRS, if known.
     pub crs: Option<Crs>,
+    /// The cells burnt: a tile's window of the grid (its grids hold only it), or the whole
+    /// grid (`None`). A window burns each of its cells exactly as the whole grid does; the
+    /// checks that a layer covers some cell are left to the whole grid's reading.
+    pub window: Option<Window>,
+}
+
+impl Frame {
+    /// The cells burnt.
+    pub fn cells(&self) -> Window {
+        self.window.unwrap_or(Window::whole(&self.geometry))
+    }
+
+    /// A grid of the burnt cells' `values` (row-major over [`Frame::cells`]), placed on the
+    /// whole grid.
+    fn grid(&self, values: Vec<Option<f64>>) -> Option<Grid<f64>> {
+        let (g, w) = (self.geometry, self.cells());
+        let part = GridGeometry {
+            ncols: w.ncols,
+            nrows: w.nrows,
+            ..g
+        };
+        let grid = Grid::from_options(part, values)?;
+        let grid = match self.window {
+            None => grid,
+            Some(w) => grid.placed(g, w)?,
+        };
+        Some(grid.with_crs(self.crs.clone()))
+    }
 }
 
 /// What a per-cell parameter takes in the cells no polygon holds.
@@ -130,29 +158,34 @@ pub fn field_grid(
     outside: Outside,
     key: &str,
 ) -> Result<(Grid<f64>, usize), VectorError> {
-    let g = frame.geometry;
-    let mut cells: Vec<Option<f64>> = vec![None; g.len()];
+    let (g, w) = (frame.geometry, frame.cells());
+    let mut cells: Vec<Option<f64>> = vec![None; w.ncols * w.nrows];
     let mut covered = 0;
     for f in &layer.features {
         let rings = polygons(layer, f)?;
         let Some(v) = number(layer, f, field)? else {
             continue;
         };
-        for c in polygon_cells(&g, &rings) {
-            covered += usize::from(cells[c].is_none());
-            cells[c] = Some(v);
+        for c in polygon_cells_in(&g, &rings, &w) {
+            let (row, col) = g.row_col(c);
+            let k = (row - w.row0) * w.ncols + (col - w.col0);
+            covered += usize::from(cells[k].is_none());
+            cells[k] = Some(v);
         }
     }
-    if covered == 0 {
+    if covered == 0 && frame.window.is_none() {
         return Err(no_overlap(layer, frame));
     }
-    let missing = g.len() - covered;
+    let missing = (w.ncols * w.nrows) - covered;
     match outside {
         Outside::Default(d) => cells.iter_mut().for_each(|c| *c = c.or(Some(d))),
         Outside::Nodata => {}
         Outside::Error if missing > 0 => {
             let first = cells.iter().position(Option::is_none).unwrap_or(0);
-            let (row, col) = g.row_col(first);
+            let (row, col) = (
+                w.row0 + first / w.ncols.max(1),
+                w.col0 + first % w.ncols.max(1),
+            );
             return Err(VectorError::layer(
                 layer,
                 format!(
@@ -162,20 +195,22 @@ pub fn field_grid(
         }
         Outside::Error => {}
     }
-    let grid = Grid::from_options(g, cells)
-        .ok_or_else(|| VectorError::layer(layer, "internal: grid size"))?;
-    Ok((grid.with_crs(frame.crs.clone()), covered))
+    let grid =
+        (frame.grid(cells)).ok_or_else(|| VectorError::layer(layer, "internal: grid size"))?;
+    Ok((grid, covered))
 }
 
-/// Release cells: the cells whose centres the polygons hold, ascending.
+/// Release cells: the cells whose centres the polygons hold (of the frame's window),
+/// ascending.
 pub fn release_cells(layer: &Layer, frame: &Frame) -> Result<Vec<usize>, VectorError> {
     let mut cells = Vec::new();
+    let w = frame.cells();
     for f in &layer.features {
-        cells.extend(polygon_cells(&frame.geometry, &polygons(layer, f)?));
+        cells.extend(polygon_cells_in(&frame.geometry, &polygons(layer, f)?, &w));
     }
     cells.sort_unstable();
     cells.dedup();
-    if cells.is_empty() {
+    if cells.is_empty() && frame.window.is_none() {
         return Err(no_overlap(layer, frame));
     }
     Ok(cells)
@@ -284,11 +319,15 @@ pub fn net_lines(layer: &Layer, frame: &Frame) -> Result<Vec<NetLine>, VectorErr
 /// The Rockyfor3D net rasters (`net_number`, `net_energy` kJ, `net_height` m) of net lines;
 /// 0 where no net.
 pub fn net_grids(nets: &[NetLine], frame: &Frame) -> [Grid<f64>; 3] {
-    let g = frame.geometry;
-    let mut out = [0, 1, 2].map(|_| Grid::filled(g, 0.0).with_crs(frame.crs.clone()));
+    let (g, w) = (frame.geometry, frame.cells());
+    let zeros = || frame.grid(vec![Some(0.0); w.ncols * w.nrows]);
+    let mut out = [0, 1, 2].map(|_| zeros().unwrap_or_else(|| Grid::filled(g, 0.0)));
     for n in nets {
         for &c in &n.cells {
             let (row, col) = g.row_col(c);
+            if !w.contains(row, col) {
+                continue;
+            }
             out[0].set(row, col, f64::from(n.id));
             out[1].set(row, col, n.energy_kj);
             out[2].set(row, col, n.height_m);
