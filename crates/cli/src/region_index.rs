@@ -15,7 +15,7 @@ use std::sync::Arc;
 /// The digest of the input files and the files it was computed from.
 type Inputs = (u64, Vec<(String, FileStamp)>);
 
-/// A region's tile index: the release raster's counts and the input files' digest, each
+/// A region's tile index: the release raster's or layer's counts and the input files' digest, each
 /// once known; see the module.
 #[derive(Default)]
 pub struct RegionIndex {
@@ -38,7 +38,7 @@ impl RegionIndex {
         }
     }
 
-    /// The release raster's counts for a tile whose own cells are in rows `rows`, if known.
+    /// The release's counts for a tile whose own cells are in rows `rows`, if known.
     /// The file is read at the first call, for `rows` only.
     pub fn counts(&self, rows: Range<usize>) -> Result<Option<Arc<ReleaseCounts>>, Failure> {
         if !self.read.replace(true)
@@ -60,7 +60,7 @@ impl RegionIndex {
         Ok(held)
     }
 
-    /// Keeps the counts of a release raster a tile scanned whole.
+    /// Keeps the counts of a release a tile read whole.
     pub fn scanned(&self, counts: Option<ReleaseCounts>) {
         if let Some(c) = counts {
             *self.release.borrow_mut() = Some(Arc::new(c));

@@ -33,6 +33,10 @@ struct TileReport<'a> {
     region_rocks: u64,
     /// Cells the tile's rocks reached.
     cells_reached: usize,
+    /// Cells of the tile's core its rocks reached. Summed over the tiles: at most the
+    /// region's cells reached (a cell reached only by other tiles' rocks is not counted),
+    /// as the sum of `cells_reached` is at least it (the halos overlap).
+    cells_reached_in_core: usize,
     /// Bytes of their per-cell statistics.
     cell_statistics_bytes: usize,
     /// Each pass: halo, window read, rocks simulated, rocks that left the trusted cells.
@@ -300,6 +304,12 @@ fn report<'a>(spec: &TileSpec, run: &'a TileRun) -> TileReport<'a> {
         rocks: run.rocks.len(),
         region_rocks: run.region_rocks,
         cells_reached: cells,
+        cells_reached_in_core: run.tally.cells_reached_where(|c| {
+            let g = run.scenario.terrain.dem.geometry();
+            let (row, col) = g.row_col(c);
+            let [c0, r0, nc, nr] = run.core;
+            (c0..c0 + nc).contains(&col) && (r0..r0 + nr).contains(&row)
+        }),
         cell_statistics_bytes: bytes,
         passes: &run.passes,
         wall_time_s: run.passes.iter().map(|p| p.wall_time_s).sum(),

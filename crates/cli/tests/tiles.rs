@@ -56,7 +56,7 @@ fn tiles_merge_into_the_single_run_byte_for_byte() {
         s(&single),
     ]));
     let mut dirs = Vec::new();
-    let (mut rocks, mut reruns) = (0, 0);
+    let (mut rocks, mut reruns, mut in_cores, mut reached) = (0, 0, 0, 0);
     for i in 1..=4 {
         let dir = tmp.path().join(format!("tile{i}"));
         // a 60 m halo: rocks leave it and are run again on 120 m, 240 m …
@@ -64,6 +64,8 @@ fn tiles_merge_into_the_single_run_byte_for_byte() {
         assert!(printed.contains(&format!("(tile {i}/4)")), "{printed}");
         let report = json(&dir.join("tile.json"));
         rocks += report["rocks"].as_u64().unwrap();
+        in_cores += report["cells_reached_in_core"].as_u64().unwrap();
+        reached += report["cells_reached"].as_u64().unwrap();
         let passes = report["passes"].as_array().unwrap();
         reruns += passes.len() - 1;
         let last = passes.last().unwrap();
@@ -79,6 +81,12 @@ fn tiles_merge_into_the_single_run_byte_for_byte() {
     assert!(
         reruns > 0,
         "no rock left its tile: the reruns are not exercised"
+    );
+    // the tiles bracket the region's cells reached
+    let region = whole["cells_reached"].as_u64().unwrap();
+    assert!(
+        0 < in_cores && in_cores <= region && region < reached,
+        "{in_cores} {region} {reached}"
     );
     let merged = tmp.path().join("merged");
     let mut args = vec!["merge"];

@@ -53,7 +53,7 @@ pub fn parse_scenario(text: &str, path: &Path) -> Result<Scenario, InputError> {
     Ok(parse(text, path, None)?.0)
 }
 
-/// The scenario of a scenario file's text, and when reading a tile, the release raster's
+/// The scenario of a scenario file's text, and when reading a tile, the release's
 /// counts if it was scanned whole.
 fn parse(
     text: &str,
@@ -400,7 +400,10 @@ impl Resolver {
                 for key in ["net_energy", "net_height"] {
                     self.sources.insert(key.into(), self.path(&p));
                 }
-                let [number, energy_kj, height_m] = inputs::net_grids(&lines, &frame);
+                let [number, energy_kj, height_m] =
+                    inputs::net_grids(&lines, &frame).ok_or_else(|| {
+                        self.invalid("nets.lines", "the tile's window does not fit the DEM")
+                    })?;
                 let nets = Nets {
                     number: Field::Grid(number),
                     energy_kj: Field::Grid(energy_kj),

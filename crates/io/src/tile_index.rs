@@ -1,7 +1,7 @@
 //! A region's tile index (`rockfall run --tile-index FILE`): what every spatial tile would
 //! otherwise read the whole region for, computed once.
 //!
-//! - [`ReleaseCounts`]: the release raster's source cells counted per row and per block of
+//! - [`ReleaseCounts`]: the release raster's or layer's source cells counted per row and per block of
 //!   [`BLOCK_COLS`] columns. A tile numbers its source cells among the region's (which fixes
 //!   their rocks' numbers and random streams) from the rows of its own cells, not from a scan
 //!   of the whole raster.
@@ -16,13 +16,14 @@
 //! files again in every tile is what the index saves.
 
 use crate::InputError;
+use rockfall_raster::GridGeometry;
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 /// Columns per block of [`ReleaseCounts`] (the tile size of the GeoTIFFs `rockfall` writes).
 pub const BLOCK_COLS: usize = 256;
 
-const MAGIC: &[u8] = b"rockfall tile index 2\n";
+const MAGIC: &[u8] = b"rockfall tile index 3\n";
 
 /// What tells whether a file changed: its canonical path, size, times and inode.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -64,7 +65,8 @@ impl FileStamp {
     }
 }
 
-/// The source cells (value > 0) of a release raster counted per row and per block of
+/// The source cells (value > 0) of a release raster, or the cells of a release layer, on the
+/// DEM's grid, counted per row and per block of
 /// [`BLOCK_COLS`] columns, for the rows `first_row ..` it holds.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReleaseCounts {
@@ -72,6 +74,9 @@ pub struct ReleaseCounts {
     pub stamp: FileStamp,
     /// The layer of a vector file counted (empty for a raster).
     pub layer: String,
+    /// The grid counted on: x and y of its south-west corner and its cell size, m (a layer's
+    /// cells depend on them, not only on the number of rows and columns).
+    pub origin_m: [f64; 3],
     /// Its columns.
     pub ncols: usize,
     /// Its rows.
@@ -88,10 +93,12 @@ pub struct ReleaseCounts {
 impl ReleaseCounts {
     /// Counts of nothing yet, for a raster of `ncols` × `nrows` cells: [`Self::add`] each
     /// source cell, then [`Self::finish`].
-    pub fn start(stamp: FileStamp, layer: &str, ncols: usize, nrows: usize) -> ReleaseCounts {
+    pub fn start(stamp: FileStamp, layer: &str, g: &GridGeometry) -> ReleaseCounts {
+        let (ncols, nrows) = (g.ncols, g.nrows);
         ReleaseCounts {
             stamp,
             layer: layer.to_string(),
+            origin_m: [g.x_min_m, g.y_min_m, g.cell_size_m],
             ncols,
             nrows,
             row_start: vec![0; nrows + 1],
@@ -112,6 +119,16 @@ impl ReleaseCounts {
         for r in 0..self.nrows {
             self.row_start[r + 1] += self.row_start[r];
         }
+    }
+
+    /// Whether these are the counts of file `stamp`, layer `layer` (empty: a raster), on grid
+    /// `g`.
+    pub fn counts_of(&self, stamp: &FileStamp, layer: &str, g: &GridGeometry) -> bool {
+        self.stamp == *stamp
+            && self.layer == layer
+            && (self.ncols, self.nrows) == (g.ncols, g.nrows)
+            && (self.origin_m.map(f64::to_bits))
+                == [g.x_min_m, g.y_min_m, g.cell_size_m].map(f64::to_bits)
     }
 
     /// The region's number of source cells.
@@ -148,10 +165,11 @@ impl ReleaseCounts {
     }
 }
 
-/// A region's tile index: the release raster's counts and the digest of the input files.
+/// A region's tile index: the release raster's or layer's counts and the digest of the input
+/// files.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TileIndex {
-    /// The release raster's source cells, when the release is a raster.
+    /// The release's source cells, when the release is a raster or a layer.
     pub release: Option<ReleaseCounts>,
     /// The input files' digest and, by key, the files it was computed from.
     pub inputs: Option<(u64, Vec<(String, FileStamp)>)>,
@@ -237,6 +255,9 @@ fn write_index(f: &mut impl Write, ix: &TileIndex) -> std::io::Result<()> {
     f.write_all(&[1])?;
     put_stamp(f, &c.stamp)?;
     put_str(f, &c.layer)?;
+    for v in c.origin_m {
+        put_u64(f, v.to_bits())?;
+    }
     put_u64(f, c.ncols as u64)?;
     put_u64(f, c.nrows as u64)?;
     if c.first_row != 0 || c.blocks.len() != c.nrows * c.blocks_per_row() {
@@ -279,6 +300,7 @@ fn read_index<R: Read + Seek>(
     }
     let stamp = get_stamp(f)?;
     let layer = get_str(f)?;
+    let origin_m = [get_u64(f)?, get_u64(f)?, get_u64(f)?].map(f64::from_bits);
     let (ncols, nrows) = (get_u64(f)?, get_u64(f)?);
     let nb = ncols.div_ceil(BLOCK_COLS as u64);
     // the counts' size, checked against the file's before anything is allocated
@@ -327,6 +349,7 @@ fn read_index<R: Read + Seek>(
         release: Some(ReleaseCounts {
             stamp,
             layer,
+            origin_m,
             ncols,
             nrows,
             row_start,
@@ -407,7 +430,14 @@ mod tests {
             inode: [3, 4],
         };
         // 3 rows of 600 columns: blocks of 256, 256, 88
-        let mut c = ReleaseCounts::start(stamp, "", 600, 3);
+        let g = GridGeometry {
+            ncols: 600,
+            nrows: 3,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 5.0,
+        };
+        let mut c = ReleaseCounts::start(stamp, "", &g);
         for (row, col) in [
             (0, 3),
             (0, 300),
@@ -434,6 +464,18 @@ mod tests {
         assert_eq!(c.in_block(1, 1), 1);
         assert_eq!(c.in_block(1, 2), 1);
         assert_eq!(c.in_block(2, 2), 1);
+        // counts of this file and layer on this grid only: not on a shifted one
+        let g = GridGeometry {
+            ncols: 600,
+            nrows: 3,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 5.0,
+        };
+        assert!(c.counts_of(&c.stamp, "", &g));
+        assert!(!c.counts_of(&c.stamp, "release", &g));
+        let shifted = GridGeometry { x_min_m: 2.5, ..g };
+        assert!(!c.counts_of(&c.stamp, "", &shifted));
     }
 
     #[test]

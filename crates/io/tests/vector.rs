@@ -176,7 +176,7 @@ fn lines_burn_every_cell_they_touch_as_gdal_rasterize_at_does() {
     ours.dedup();
     let gdal = cells_of(&gdal_burn("nets.geojson", "nets", &["-at", "-burn", "1"]));
     assert_eq!(ours, gdal);
-    let [number, energy, height] = inputs::net_grids(&nets, &frame());
+    let [number, energy, height] = inputs::net_grids(&nets, &frame()).unwrap();
     let c = nets[1].cells[0];
     assert_eq!(
         (

@@ -477,6 +477,14 @@ impl Tally {
     pub fn cell_memory(&self) -> (usize, usize) {
         (self.cells.heap_bytes(), self.cells.len())
     }
+
+    /// Cells reached (visited) whose row-major index `keep` accepts (e.g. those of a tile's
+    /// core), as `summary.json`'s `cells_reached` counts them.
+    pub fn cells_reached_where(&self, keep: impl Fn(usize) -> bool) -> usize {
+        (self.cells.touched())
+            .filter(|c| c.visits > 0 && keep(c.cell))
+            .count()
+    }
 }
 
 /// Per-cell statistics shared by the workers of one run: each worker moves its own into it

@@ -10,13 +10,13 @@ use std::sync::Arc;
 
 /// Reads and validates a scenario file as the spatial tile of its region released from the
 /// cells of `core`: every raster is read over `window` only (the core and its halo; a
-/// GeoTIFF decodes only the tiles or strips it touches), the release raster is scanned for
-/// the numbers of the core's source cells among the region's, and vector layers are burnt
-/// on the region's grid and cut to the window. See [`Scenario::tile`].
+/// GeoTIFF decodes only the tiles or strips it touches), vector layers are burnt over the
+/// window only, and the core's source cells are numbered among the region's (from the tile
+/// index's counts, or from the whole release raster or layer). See [`Scenario::tile`].
 ///
-/// `counts` are the tile index's counts of the release raster: used while the raster has
-/// the size and modification time they were counted from. Returned: the scenario, and the
-/// counts of the release raster when it was scanned whole (no usable counts given).
+/// `counts` are the tile index's counts of the release raster or layer: used while its file
+/// has the stamp they were counted from. Returned: the scenario, and the counts of the
+/// release when it was read whole (no usable counts given).
 pub fn read_scenario_tile(
     path: &Path,
     core: Window,
@@ -55,9 +55,9 @@ pub(super) struct TileRead {
     pub(super) core: Window,
     pub(super) window: Window,
     pub(super) found: Option<(u64, Vec<u64>)>,
-    /// The tile index's counts of the release raster, if any.
+    /// The tile index's counts of the release raster or layer, if any.
     pub(super) counts: Option<Arc<ReleaseCounts>>,
-    /// The release raster's counts when it was scanned whole.
+    /// The release's counts when it was read whole.
     pub(super) built: Option<ReleaseCounts>,
 }
 

@@ -36,7 +36,7 @@ impl Resolver {
                 (c.total(), cells, ordinals)
             }
             None => {
-                let mut counts = ReleaseCounts::start(stamp, "", g.ncols, g.nrows);
+                let mut counts = ReleaseCounts::start(stamp, "", &g);
                 let found = scan_whole(&path, &g, self.core(), &mut counts)?;
                 self.counted(counts);
                 found
@@ -77,7 +77,7 @@ impl Resolver {
             None => {
                 frame.window = None;
                 let all = inputs::release_cells(l, &frame)?;
-                let mut counts = ReleaseCounts::start(stamp, &l.name, g.ncols, g.nrows);
+                let mut counts = ReleaseCounts::start(stamp, &l.name, &g);
                 let (mut cells, mut ordinals) = (Vec::new(), Vec::new());
                 for (k, &c) in all.iter().enumerate() {
                     let (row, col) = g.row_col(c);
@@ -126,7 +126,7 @@ impl Resolver {
         let Some(c) = t.counts.as_ref() else {
             return Ok(None);
         };
-        if c.stamp != *stamp || c.layer != layer || (c.ncols, c.nrows) != (g.ncols, g.nrows) {
+        if !c.counts_of(stamp, layer, g) {
             return Ok(None);
         }
         if !c.holds(t.core.row0..t.core.row0 + t.core.nrows) {
@@ -314,7 +314,7 @@ mod tests {
     fn a_tile_numbers_its_source_cells_from_the_counts_as_a_whole_scan_does() {
         let (_tmp, path, g) = raster();
         let stamp = FileStamp::of(&path).unwrap();
-        let mut counts = ReleaseCounts::start(stamp, "", g.ncols, g.nrows);
+        let mut counts = ReleaseCounts::start(stamp, "", &g);
         let (total, all, numbers) = scan_whole(&path, &g, Window::whole(&g), &mut counts).unwrap();
         counts.finish();
         assert_eq!(counts.total(), total);
@@ -344,14 +344,14 @@ mod tests {
                 .unzip();
             assert_eq!(cells, expected, "core {core:?}");
             assert_eq!(ordinals, expected_numbers, "core {core:?}");
-            let mut scanned = ReleaseCounts::start(counts.stamp.clone(), "", g.ncols, g.nrows);
+            let mut scanned = ReleaseCounts::start(counts.stamp.clone(), "", &g);
             let (_, c, o) = scan_whole(&path, &g, core, &mut scanned).unwrap();
             assert_eq!((c, o), (cells, ordinals));
         }
         // counts of another raster (one more source cell in a block) are refused, the last
         // block of a row (88 columns) too
         for (row, col) in [(4, 300), (7, 650)] {
-            let mut wrong = ReleaseCounts::start(counts.stamp.clone(), "", g.ncols, g.nrows);
+            let mut wrong = ReleaseCounts::start(counts.stamp.clone(), "", &g);
             scan_whole(&path, &g, Window::whole(&g), &mut wrong).unwrap();
             wrong.add(row, col);
             wrong.finish();

@@ -16,8 +16,9 @@ pub struct Frame {
     /// The DEM's CRS, if known.
     pub crs: Option<Crs>,
     /// The cells burnt: a tile's window of the grid (its grids hold only it), or the whole
-    /// grid (`None`). A window burns each of its cells exactly as the whole grid does; the
-    /// checks that a layer covers some cell are left to the whole grid's reading.
+    /// grid (`None`). A window burns each of its cells exactly as the whole grid does. A layer
+    /// that covers no cell of a window is no error (it may cover other tiles); a run of the
+    /// whole region or `rockfall check` makes that check.
     pub window: Option<Window>,
 }
 
@@ -316,12 +317,13 @@ pub fn net_lines(layer: &Layer, frame: &Frame) -> Result<Vec<NetLine>, VectorErr
     Ok(nets)
 }
 
-/// The Rockyfor3D net rasters (`net_number`, `net_energy` kJ, `net_height` m) of net lines;
-/// 0 where no net.
-pub fn net_grids(nets: &[NetLine], frame: &Frame) -> [Grid<f64>; 3] {
+/// The Rockyfor3D net rasters (`net_number`, `net_energy` kJ, `net_height` m) of net lines
+/// over the frame's cells; 0 where no net. `None` when the frame's window does not fit its
+/// grid.
+pub fn net_grids(nets: &[NetLine], frame: &Frame) -> Option<[Grid<f64>; 3]> {
     let (g, w) = (frame.geometry, frame.cells());
     let zeros = || frame.grid(vec![Some(0.0); w.ncols * w.nrows]);
-    let mut out = [0, 1, 2].map(|_| zeros().unwrap_or_else(|| Grid::filled(g, 0.0)));
+    let mut out = [zeros()?, zeros()?, zeros()?];
     for n in nets {
         for &c in &n.cells {
             let (row, col) = g.row_col(c);
@@ -333,7 +335,7 @@ pub fn net_grids(nets: &[NetLine], frame: &Frame) -> [Grid<f64>; 3] {
             out[2].set(row, col, n.height_m);
         }
     }
-    out
+    Some(out)
 }
 
 /// One line for `rockfall check`: the file, layer, features read and what they gave —
