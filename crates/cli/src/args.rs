@@ -110,11 +110,11 @@ pub enum Command {
         #[arg(long, value_name = "H", requires = "tiling", value_parser = parse_positive_m)]
         halo_m: Option<f64>,
         /// The region's tile index (with --tile or --tiles): read when it exists, written
-        /// when it does not or is out of date. It holds the release raster's source cells
-        /// counted per row and block and the digest of the input files, so that a tile reads
-        /// its own rows of the release raster and hashes no input file instead of reading the
-        /// whole region. Every part is used only while its files keep their size and
-        /// modification time.
+        /// when it does not or is out of date. It holds the release raster's or layer's source
+        /// cells counted per row and block and the digest of the input files, so that a tile
+        /// reads its own rows of the release and hashes no input file instead of reading the
+        /// whole region. Every part is used only while its files keep their canonical path,
+        /// size, modification and status-change times and inode.
         #[arg(long, value_name = "FILE", requires = "tiling")]
         tile_index: Option<PathBuf>,
         /// Continue the interrupted run whose output folder is DIR (its checkpoint.tally),

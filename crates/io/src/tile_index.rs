@@ -1,12 +1,12 @@
 //! A region's tile index (`rockfall run --tile-index FILE`): what every spatial tile would
 //! otherwise read the whole region for, computed once.
 //!
-//! - [`ReleaseCounts`]: the release raster's or layer's source cells counted per row and per block of
-//!   [`BLOCK_COLS`] columns. A tile numbers its source cells among the region's (which fixes
-//!   their rocks' numbers and random streams) from the rows of its own cells, not from a scan
-//!   of the whole raster.
-//! - The digest of the input files' bytes that the tiles' fingerprint holds, with the size and
-//!   modification time of each file it was computed from.
+//! - [`ReleaseCounts`]: the release raster's or layer's source cells counted per row and per
+//!   block of [`BLOCK_COLS`] columns. A tile numbers its source cells among the region's
+//!   (which fixes their rocks' numbers and random streams) from the rows of its own cells, not
+//!   from the whole release.
+//! - The digest of the input files' bytes that the tiles' fingerprint holds, with the
+//!   [`FileStamp`] of each file it was computed from.
 //!
 //! Every part is used only while the files it was computed from keep their path, size,
 //! modification time, status-change time and inode ([`FileStamp`]); otherwise it is computed
