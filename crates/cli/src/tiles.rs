@@ -304,12 +304,14 @@ fn report<'a>(spec: &TileSpec, run: &'a TileRun) -> TileReport<'a> {
         rocks: run.rocks.len(),
         region_rocks: run.region_rocks,
         cells_reached: cells,
-        cells_reached_in_core: run.tally.cells_reached_where(|c| {
+        cells_reached_in_core: {
             let g = run.scenario.terrain.dem.geometry();
-            let (row, col) = g.row_col(c);
             let [c0, r0, nc, nr] = run.core;
-            (c0..c0 + nc).contains(&col) && (r0..r0 + nr).contains(&row)
-        }),
+            run.tally.cells_reached_where(|c| {
+                let (row, col) = g.row_col(c);
+                (c0..c0 + nc).contains(&col) && (r0..r0 + nr).contains(&row)
+            })
+        },
         cell_statistics_bytes: bytes,
         passes: &run.passes,
         wall_time_s: run.passes.iter().map(|p| p.wall_time_s).sum(),

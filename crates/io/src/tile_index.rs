@@ -421,6 +421,17 @@ fn get_stamp(f: &mut impl Read) -> std::io::Result<FileStamp> {
 mod tests {
     use super::*;
 
+    /// 3 rows of 600 columns: blocks of 256, 256, 88.
+    fn grid() -> GridGeometry {
+        GridGeometry {
+            ncols: 600,
+            nrows: 3,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 5.0,
+        }
+    }
+
     fn counts() -> ReleaseCounts {
         let stamp = FileStamp {
             path: "release.tif".into(),
@@ -429,15 +440,7 @@ mod tests {
             changed_ns: 1 << 71,
             inode: [3, 4],
         };
-        // 3 rows of 600 columns: blocks of 256, 256, 88
-        let g = GridGeometry {
-            ncols: 600,
-            nrows: 3,
-            x_min_m: 0.0,
-            y_min_m: 0.0,
-            cell_size_m: 5.0,
-        };
-        let mut c = ReleaseCounts::start(stamp, "", &g);
+        let mut c = ReleaseCounts::start(stamp, "", &grid());
         for (row, col) in [
             (0, 3),
             (0, 300),
@@ -465,13 +468,7 @@ mod tests {
         assert_eq!(c.in_block(1, 2), 1);
         assert_eq!(c.in_block(2, 2), 1);
         // counts of this file and layer on this grid only: not on a shifted one
-        let g = GridGeometry {
-            ncols: 600,
-            nrows: 3,
-            x_min_m: 0.0,
-            y_min_m: 0.0,
-            cell_size_m: 5.0,
-        };
+        let g = grid();
         assert!(c.counts_of(&c.stamp, "", &g));
         assert!(!c.counts_of(&c.stamp, "release", &g));
         let shifted = GridGeometry { x_min_m: 2.5, ..g };

@@ -326,10 +326,8 @@ pub fn net_grids(nets: &[NetLine], frame: &Frame) -> Option<[Grid<f64>; 3]> {
     let mut out = [zeros()?, zeros()?, zeros()?];
     for n in nets {
         for &c in &n.cells {
+            // cells outside the window are not held: `set` leaves them
             let (row, col) = g.row_col(c);
-            if !w.contains(row, col) {
-                continue;
-            }
             out[0].set(row, col, f64::from(n.id));
             out[1].set(row, col, n.energy_kj);
             out[2].set(row, col, n.height_m);
