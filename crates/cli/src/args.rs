@@ -142,6 +142,18 @@ pub enum Command {
         /// Also write every raster as an ESRI ASCII grid (.asc + .prj).
         #[arg(long)]
         ascii: bool,
+        /// Stream the per-cell statistics instead of holding them: for regions whose merge
+        /// does not fit in memory. The tallies are read twice (three times when their bounds
+        /// leave a raster's sample type open), and memory holds only the rows being written
+        /// and the cells of the tiles that span them. Writes the same rasters (GeoTIFF),
+        /// summary.json and tables, but no merged rockfall.tally, report, styles or ASCII
+        /// grids.
+        #[arg(long, conflicts_with_all = ["ascii", "input"])]
+        stream: bool,
+        /// Threads reading the tallies in a streamed merge's first reading (default: the
+        /// machine's cores).
+        #[arg(long, requires = "stream")]
+        threads: Option<u64>,
     },
     /// Read and validate every input; print extent, cell size, CRS, source cells, stems and
     /// parameter ranges. Exit 2 on any problem.

@@ -147,8 +147,16 @@ pub fn dispatch(command: Command) -> Result<(), Failure> {
         Command::Merge {
             dirs,
             out,
+            stream: true,
+            threads,
+            ..
+        } => regional::merge_streamed(&dirs, &out, threads),
+        Command::Merge {
+            dirs,
+            out,
             input,
             ascii,
+            ..
         } => regional::merge(&dirs, &out, input.as_deref(), ascii),
         Command::Demo { out } => simulate::demo(&out),
         Command::ImpactLab {

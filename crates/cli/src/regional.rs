@@ -200,13 +200,9 @@ pub fn resume(dir: &Path, threads: Option<u64>, ascii: bool) -> Result<(), Failu
     run_batched(b, dir, ascii)
 }
 
-/// `rockfall merge DIR… --out OUT`.
-pub fn merge(
-    dirs: &[PathBuf],
-    out: &Path,
-    input: Option<&Path>,
-    ascii: bool,
-) -> Result<(), Failure> {
+/// The tally files of the run folders `dirs`, refusing `out` among them and folders without
+/// a finished tally.
+fn tally_files(dirs: &[PathBuf], out: &Path) -> Result<Vec<PathBuf>, Failure> {
     let same = |d: &Path| match (d.canonicalize(), out.canonicalize()) {
         (Ok(a), Ok(b)) => a == b,
         _ => false,
@@ -217,7 +213,7 @@ pub fn merge(
             d.display()
         )));
     }
-    let mut parts = Vec::with_capacity(dirs.len());
+    let mut files = Vec::with_capacity(dirs.len());
     for d in dirs {
         let path = d.join(TALLY_FILE);
         if !path.exists() {
@@ -230,6 +226,84 @@ pub fn merge(
             };
             return Err(Failure::BadInput(anyhow!("{}: {why}", d.display())));
         }
+        files.push(path);
+    }
+    Ok(files)
+}
+
+/// Warns when the tally files outweigh half the memory available (Linux's
+/// `/proc/meminfo`): a merge in memory holds about as much as the files, twice while the
+/// last is added.
+fn warn_if_large(files: &[PathBuf]) {
+    let bytes: u64 = (files.iter())
+        .filter_map(|f| std::fs::metadata(f).ok())
+        .map(|m| m.len())
+        .sum();
+    let available_kb = std::fs::read_to_string("/proc/meminfo").ok().and_then(|t| {
+        let line = t.lines().find(|l| l.starts_with("MemAvailable:"))?;
+        line.split_whitespace().nth(1)?.parse::<u64>().ok()
+    });
+    if let Some(kb) = available_kb.filter(|&kb| bytes / 1024 > kb / 2) {
+        eprintln!(
+            "warning: the tallies hold {:.1} GB and {:.1} GB of memory is available: a merge in \
+             memory may not fit; `rockfall merge --stream` merges them in bounded memory",
+            bytes as f64 / 1e9,
+            kb as f64 * 1024.0 / 1e9
+        );
+    }
+}
+
+/// `rockfall merge DIR… --out OUT --stream`.
+pub fn merge_streamed(dirs: &[PathBuf], out: &Path, threads: Option<u64>) -> Result<(), Failure> {
+    use rockfall_sim::streamed::{self, StreamedMergeError};
+    let files = tally_files(dirs, out)?;
+    let threads = match threads {
+        Some(n) => usize::try_from(n).unwrap_or(usize::MAX),
+        None => std::thread::available_parallelism().map_or(1, usize::from),
+    };
+    let failure = |e: StreamedMergeError| match e {
+        StreamedMergeError::Write(e) => Failure::Internal(e.into()),
+        e => Failure::BadInput(e.into()),
+    };
+    let survey = streamed::survey(&files, threads).map_err(failure)?;
+    println!(
+        "read {} tallies of {} rocks: {} cells in all",
+        files.len(),
+        survey.merged.record.rocks_total,
+        survey.bounds.touched
+    );
+    let written = streamed::write(survey, out).map_err(failure)?;
+    println!(
+        "merged {} shares of {} rocks, streaming their cells ({} readings, at most {} tallies \
+         open at once)",
+        dirs.len(),
+        written.record.rocks_total,
+        written.readings,
+        written.most_open
+    );
+    println!(
+        "wrote {} files to {} (rasters, summary.json, tables; no report)",
+        written.files.len(),
+        out.display()
+    );
+    simulate::print_summary(
+        &format!("{} (merged):", written.record.scenario),
+        &written.results,
+    );
+    Ok(())
+}
+
+/// `rockfall merge DIR… --out OUT`.
+pub fn merge(
+    dirs: &[PathBuf],
+    out: &Path,
+    input: Option<&Path>,
+    ascii: bool,
+) -> Result<(), Failure> {
+    let files = tally_files(dirs, out)?;
+    warn_if_large(&files);
+    let mut parts = Vec::new();
+    for path in files {
         let saved = read_tally::<RunRecord>(&path).map_err(|e| Failure::BadInput(e.into()))?;
         parts.push((path, saved));
     }

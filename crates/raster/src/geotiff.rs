@@ -14,7 +14,7 @@
 
 use std::path::Path;
 
-use crate::{Crs, Grid, RasterError, Rows, SampleType};
+use crate::{Crs, Grid, GridGeometry, RasterError, Rows, SampleType};
 
 mod cog;
 mod ifd;
@@ -22,8 +22,8 @@ mod overview;
 mod read;
 mod tile;
 
-use cog::Failure;
 pub use cog::TILE;
+use cog::{CogWriter, Failure};
 use overview::Resampling;
 pub use read::{decode, read, read_geometry, read_window};
 
@@ -59,54 +59,201 @@ pub fn write(path: &Path, grid: &Grid<f64>, sample: SampleType) -> Result<(), Ra
 /// mean of the valid cells of each block, [`SampleType::I32`] ones (counts, classes) its
 /// centre cell, so that they hold only values of the grid.
 pub fn write_rows(path: &Path, rows: &impl Rows, sample: SampleType) -> Result<(), RasterError> {
-    let invalid = |message: String| RasterError::Invalid {
+    let mut scan = NodataScan::new(rows.nodata_value(), sample);
+    crate::rows::for_each_row(rows, |_, cells| scan.row(cells));
+    let nodata = scan.choose().map_err(|e| RasterError::Invalid {
         path: path.to_path_buf(),
-        message,
-    };
-    let g = rows.geometry();
-    let (Ok(1..), Ok(1..)) = (u32::try_from(g.ncols), u32::try_from(g.nrows)) else {
-        return Err(invalid(format!(
-            "cannot write a {} × {} grid",
-            g.ncols, g.nrows
-        )));
-    };
-    let cell = g.cell_size_m;
-    if !(cell.is_finite() && cell > 0.0 && g.x_min_m.is_finite() && g.y_max_m().is_finite()) {
-        let (x, y) = (g.x_min_m, g.y_min_m);
-        return Err(invalid(format!(
-            "bad origin ({x}, {y}) or cell size {cell}"
-        )));
+        message: e.to_string(),
+    })?;
+    let mut writer = RowWriter::create(path, rows.geometry(), rows.crs(), sample, nodata)?;
+    let mut cells = vec![None; rows.geometry().ncols];
+    for r in 0..rows.geometry().nrows {
+        rows.row(r, &mut cells);
+        writer.push(&cells)?;
     }
-    let nodata = choose_nodata(rows, sample)
-        .map_err(|()| invalid("every candidate nodata marker is also a valid cell value".into()))?;
-    let nd = nodata.unwrap_or(DEFAULT_NODATA);
-    let bad_cell = |(i, v): (usize, f64)| {
-        let (row, col) = g.row_col(i);
-        invalid(format!(
-            "cell (row {row}, column {col}) = {v:?} does not fit {sample:?}"
-        ))
-    };
-    let tags = GeoTags {
-        scale: [cell, cell, 0.0],
-        tiepoint: [0.0, 0.0, 0.0, g.x_min_m, g.y_max_m(), 0.0],
-        keys: geo_keys(rows.crs()),
-        nodata: nodata.map(|v| format_nodata(v, sample)),
-    };
-    match sample {
-        SampleType::F64 => cog::write(path, rows, &tags, Resampling::Average, |v| {
-            cell_sample(v, nd, f64::is_finite, |v| v)
-        }),
-        SampleType::F32 => cog::write(path, rows, &tags, Resampling::Average, |v| {
-            cell_sample(v, nd, |v| (v as f32).is_finite(), |v| v as f32)
-        }),
-        SampleType::I32 => cog::write(path, rows, &tags, Resampling::Nearest, |v| {
-            cell_sample(v, nd, |v| fits_i32(v.round()), |v| v.round() as i32)
-        }),
+    writer.finish()
+}
+
+/// A converter of cells to samples of type `T` (`Err(value)` for a value `T` cannot hold).
+type ToSample<T> = Box<dyn Fn(Option<f64>) -> Result<T, f64> + Send>;
+
+/// The COG writer of one sample type.
+enum Cog {
+    F64(CogWriter<f64, ToSample<f64>>),
+    F32(CogWriter<f32, ToSample<f32>>),
+    I32(CogWriter<i32, ToSample<i32>>),
+}
+
+/// A GeoTIFF written as its rows arrive, north to south, once: the file [`write_rows`] makes
+/// of the same rows when given the marker [`write_rows`] would choose (found beforehand by a
+/// [`NodataScan`], or known). For rows that cannot be read twice, such as a merge streaming
+/// its tiles. Cells that contradict the marker — a nodata cell when `nodata` is `None`, a
+/// valid cell equal to the marker, or no nodata cell at all when there is a marker — are
+/// [`RasterError::Invalid`], so a wrong choice never writes another file than
+/// [`write_rows`].
+pub struct RowWriter {
+    path: std::path::PathBuf,
+    geometry: GridGeometry,
+    sample: SampleType,
+    nodata: Option<f64>,
+    cog: Cog,
+    row: usize,
+    /// A nodata cell was pushed.
+    any_nodata: bool,
+}
+
+impl RowWriter {
+    /// A writer of a raster of `geometry` (its CRS `crs`) to `path`, with `sample`s and nodata
+    /// marker `nodata` (`None`: every cell valid).
+    pub fn create(
+        path: &Path,
+        geometry: GridGeometry,
+        crs: Option<&Crs>,
+        sample: SampleType,
+        nodata: Option<f64>,
+    ) -> Result<RowWriter, RasterError> {
+        let invalid = |message: String| RasterError::Invalid {
+            path: path.to_path_buf(),
+            message,
+        };
+        let g = geometry;
+        let (Ok(1..), Ok(1..)) = (u32::try_from(g.ncols), u32::try_from(g.nrows)) else {
+            return Err(invalid(format!(
+                "cannot write a {} × {} grid",
+                g.ncols, g.nrows
+            )));
+        };
+        let cell = g.cell_size_m;
+        if !(cell.is_finite() && cell > 0.0 && g.x_min_m.is_finite() && g.y_max_m().is_finite()) {
+            let (x, y) = (g.x_min_m, g.y_min_m);
+            return Err(invalid(format!(
+                "bad origin ({x}, {y}) or cell size {cell}"
+            )));
+        }
+        let nd = nodata.unwrap_or(DEFAULT_NODATA);
+        let tags = GeoTags {
+            scale: [cell, cell, 0.0],
+            tiepoint: [0.0, 0.0, 0.0, g.x_min_m, g.y_max_m(), 0.0],
+            keys: geo_keys(crs),
+            nodata: nodata.map(|v| format_nodata(v, sample)),
+        };
+        let size = (g.ncols, g.nrows);
+        let cog = match sample {
+            SampleType::F64 => CogWriter::new(
+                path,
+                size,
+                tags,
+                Resampling::Average,
+                Box::new(move |v| cell_sample(v, nd, f64::is_finite, |v| v)) as ToSample<f64>,
+            )
+            .map(Cog::F64),
+            SampleType::F32 => CogWriter::new(
+                path,
+                size,
+                tags,
+                Resampling::Average,
+                Box::new(move |v| cell_sample(v, nd, |v| (v as f32).is_finite(), |v| v as f32))
+                    as ToSample<f32>,
+            )
+            .map(Cog::F32),
+            SampleType::I32 => CogWriter::new(
+                path,
+                size,
+                tags,
+                Resampling::Nearest,
+                Box::new(move |v| cell_sample(v, nd, |v| fits_i32(v.round()), |v| v.round() as i32))
+                    as ToSample<i32>,
+            )
+            .map(Cog::I32),
+        }
+        .map_err(|e| failure(e, path, geometry, sample))?;
+        Ok(RowWriter {
+            path: path.to_path_buf(),
+            geometry,
+            sample,
+            nodata,
+            cog,
+            row: 0,
+            any_nodata: false,
+        })
     }
-    .map_err(|e| match e {
-        Failure::Cell(c) => bad_cell(c),
+
+    /// Adds the next row: one cell per column, `None` for nodata.
+    pub fn push(&mut self, cells: &[Option<f64>]) -> Result<(), RasterError> {
+        let g = self.geometry;
+        let invalid = |message: String| RasterError::Invalid {
+            path: self.path.clone(),
+            message,
+        };
+        if cells.len() != g.ncols || self.row >= g.nrows {
+            return Err(invalid(format!(
+                "row {} of {} cells pushed to a {} × {} raster",
+                self.row,
+                cells.len(),
+                g.ncols,
+                g.nrows
+            )));
+        }
+        let row = self.row;
+        let stored = stored_as(self.sample);
+        let contradiction = match self.nodata {
+            None => cells.iter().position(Option::is_none),
+            Some(nd) => (cells.iter()).position(|c| c.is_some_and(|v| stored(v) == nd)),
+        };
+        if let Some(col) = contradiction {
+            return Err(invalid(format!(
+                "cell (row {row}, column {col}) contradicts the nodata marker chosen beforehand \
+                 ({:?})",
+                self.nodata
+            )));
+        }
+        self.any_nodata |= cells.iter().any(Option::is_none);
+        let pushed = match &mut self.cog {
+            Cog::F64(w) => w.push(cells),
+            Cog::F32(w) => w.push(cells),
+            Cog::I32(w) => w.push(cells),
+        };
+        self.row += 1;
+        pushed.map_err(|e| failure(e, &self.path, g, self.sample))
+    }
+
+    /// Writes the file, atomically: nothing appears under its name before this.
+    pub fn finish(self) -> Result<(), RasterError> {
+        let (g, sample) = (self.geometry, self.sample);
+        if self.row != g.nrows {
+            return Err(RasterError::Invalid {
+                path: self.path,
+                message: format!("{} of {} rows pushed", self.row, g.nrows),
+            });
+        }
+        if let (Some(nd), false) = (self.nodata, self.any_nodata) {
+            // write_rows names no marker when no cell is nodata
+            return Err(RasterError::Invalid {
+                path: self.path,
+                message: format!("no cell is nodata, but the marker {nd} was chosen beforehand"),
+            });
+        }
+        match self.cog {
+            Cog::F64(w) => w.finish(),
+            Cog::F32(w) => w.finish(),
+            Cog::I32(w) => w.finish(),
+        }
+        .map_err(|e| failure(e, &self.path, g, sample))
+    }
+}
+
+/// A [`Failure`] as the error naming `path` (and the cell, for a value `sample` cannot hold).
+fn failure(e: Failure, path: &Path, g: GridGeometry, sample: SampleType) -> RasterError {
+    match e {
+        Failure::Cell((i, v)) => {
+            let (row, col) = g.row_col(i);
+            RasterError::Invalid {
+                path: path.to_path_buf(),
+                message: format!("cell (row {row}, column {col}) = {v:?} does not fit {sample:?}"),
+            }
+        }
         Failure::Io(e) => RasterError::io(path, e),
-    })
+    }
 }
 
 /// A valid cell through `to` (when `fits`, else `Err(value)`), a nodata cell as `to(nodata)`.
@@ -127,55 +274,87 @@ fn fits_i32(v: f64) -> bool {
     v >= f64::from(i32::MIN) && v <= f64::from(i32::MAX)
 }
 
-/// The nodata marker, `Ok(None)` when every cell is valid: the grid's own, else −9999, else
-/// the type's lowest value — the first the sample type can store that no valid cell (as
-/// stored) equals; `Err` when each is taken. NaN is kept for float types.
-fn choose_nodata(rows: &impl Rows, sample: SampleType) -> Result<Option<f64>, ()> {
-    let stored = |v: f64| match sample {
+/// How [`write_rows`] stores `v` as a `sample`, as an `f64`.
+fn stored_as(sample: SampleType) -> impl Fn(f64) -> f64 {
+    move |v| match sample {
         SampleType::F64 => v,
         SampleType::F32 => f64::from(v as f32),
         SampleType::I32 => v.round(),
-    };
-    let storable = |v: f64| match sample {
-        SampleType::F64 => !v.is_infinite(),
-        SampleType::F32 => !(v as f32).is_infinite(),
-        SampleType::I32 => v.fract() == 0.0 && fits_i32(v),
-    };
-    let lowest = match sample {
-        SampleType::F64 => f64::MIN,
-        SampleType::F32 => f64::from(f32::MIN),
-        SampleType::I32 => f64::from(i32::MIN),
-    };
-    let candidates: Vec<f64> = [rows.nodata_value(), Some(DEFAULT_NODATA), Some(lowest)]
-        .into_iter()
-        .flatten()
-        .filter(|&v| storable(v))
-        .map(stored)
-        .collect();
-    // one pass: is there a nodata cell, and which candidates does a valid cell take?
-    let mut taken = vec![false; candidates.len()];
-    let mut any_nodata = false;
-    crate::rows::for_each_row(rows, |_, cells| {
+    }
+}
+
+/// The nodata marker [`write_rows`] chooses for a raster, found as its rows pass ([`NodataScan::row`]):
+/// the raster's own, else −9999, else the type's lowest value — the first the sample type can
+/// store that no valid cell (as stored) equals; none when every cell is valid. NaN is kept for
+/// float types.
+pub struct NodataScan {
+    sample: SampleType,
+    candidates: Vec<f64>,
+    taken: Vec<bool>,
+    any_nodata: bool,
+}
+
+impl NodataScan {
+    /// A scan for a raster whose own marker is `own`, to be written as `sample`s.
+    pub fn new(own: Option<f64>, sample: SampleType) -> NodataScan {
+        let stored = stored_as(sample);
+        let storable = |v: f64| match sample {
+            SampleType::F64 => !v.is_infinite(),
+            SampleType::F32 => !(v as f32).is_infinite(),
+            SampleType::I32 => v.fract() == 0.0 && fits_i32(v),
+        };
+        let lowest = match sample {
+            SampleType::F64 => f64::MIN,
+            SampleType::F32 => f64::from(f32::MIN),
+            SampleType::I32 => f64::from(i32::MIN),
+        };
+        let candidates: Vec<f64> = [own, Some(DEFAULT_NODATA), Some(lowest)]
+            .into_iter()
+            .flatten()
+            .filter(|&v| storable(v))
+            .map(stored)
+            .collect();
+        NodataScan {
+            sample,
+            taken: vec![false; candidates.len()],
+            candidates,
+            any_nodata: false,
+        }
+    }
+
+    /// Takes the next row's cells (`None`: nodata).
+    pub fn row(&mut self, cells: &[Option<f64>]) {
+        let stored = stored_as(self.sample);
         for c in cells {
             match c {
-                None => any_nodata = true,
+                None => self.any_nodata = true,
                 Some(v) => {
                     let v = stored(*v);
-                    for (t, &nd) in taken.iter_mut().zip(&candidates) {
+                    for (t, &nd) in self.taken.iter_mut().zip(&self.candidates) {
                         *t |= v == nd;
                     }
                 }
             }
         }
-    });
-    if !any_nodata {
-        return Ok(None);
     }
-    (candidates.iter().zip(&taken))
-        .find(|&(nd, &t)| nd.is_nan() || !t)
-        .map(|(&nd, _)| Some(nd))
-        .ok_or(())
+
+    /// The marker, `Ok(None)` when every cell seen is valid; `Err` when each candidate is
+    /// taken.
+    pub fn choose(&self) -> Result<Option<f64>, NoMarkerLeft> {
+        if !self.any_nodata {
+            return Ok(None);
+        }
+        (self.candidates.iter().zip(&self.taken))
+            .find(|&(nd, &t)| nd.is_nan() || !t)
+            .map(|(&nd, _)| Some(nd))
+            .ok_or(NoMarkerLeft)
+    }
 }
+
+/// Every candidate nodata marker of a raster is also one of its valid values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("every candidate nodata marker is also a valid cell value")]
+pub struct NoMarkerLeft;
 
 /// `GDAL_NODATA` text: integers without a fraction, others with enough digits to round-trip.
 fn format_nodata(v: f64, sample: SampleType) -> String {
@@ -221,6 +400,7 @@ fn geo_keys(crs: Option<&Crs>) -> Vec<u16> {
 }
 
 /// Georeferencing and nodata tags of a written file.
+#[derive(Clone)]
 struct GeoTags {
     scale: [f64; 3],
     tiepoint: [f64; 6],
@@ -256,6 +436,48 @@ mod tests {
         let path = dir.path().join("g.tif");
         write(&path, grid, sample).unwrap();
         read(&path).unwrap()
+    }
+
+    #[test]
+    fn a_row_writer_given_the_scanned_marker_writes_write_rows_bytes_and_refuses_contradictions() {
+        let dir = tempfile::tempdir().unwrap();
+        // a valid cell takes −9999: the marker falls back to the type's lowest value
+        let taken = grid(|i| if i == 5 { -9999.0 } else { i as f64 + 0.25 });
+        let full = grid(|i| i as f64);
+        for (g, sample) in [(&taken, SampleType::F32), (&full, SampleType::I32)] {
+            let (a, b) = (dir.path().join("a.tif"), dir.path().join("b.tif"));
+            write_rows(&a, g, sample).unwrap();
+            let mut scan = NodataScan::new(g.nodata_value(), sample);
+            crate::rows::for_each_row(g, |_, cells| scan.row(cells));
+            let marker = scan.choose().unwrap();
+            let mut w = RowWriter::create(&b, *g.geometry(), g.crs(), sample, marker).unwrap();
+            crate::rows::for_each_row(g, |_, cells| w.push(cells).unwrap());
+            w.finish().unwrap();
+            assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+        }
+        let c = dir.path().join("c.tif");
+        let cells = [Some(1.0), None, Some(2.0), Some(3.0)];
+        // a nodata cell in a raster declared without nodata, and a valid cell on the marker
+        let mut w = RowWriter::create(&c, *full.geometry(), None, SampleType::F32, None).unwrap();
+        assert!(w.push(&cells).is_err());
+        let on_marker = [Some(1.0), Some(-9999.0), None, Some(3.0)];
+        let mut w =
+            RowWriter::create(&c, *full.geometry(), None, SampleType::F32, Some(-9999.0)).unwrap();
+        assert!(w.push(&on_marker).is_err());
+        // a marker but no nodata cell: write_rows would name none
+        let mut w =
+            RowWriter::create(&c, *full.geometry(), None, SampleType::F32, Some(-9999.0)).unwrap();
+        for _ in 0..3 {
+            w.push(&[Some(1.0); 4]).unwrap();
+        }
+        assert!(w.finish().is_err());
+        // too few rows, or a row of the wrong width, write nothing
+        let mut w =
+            RowWriter::create(&c, *full.geometry(), None, SampleType::F32, Some(-9999.0)).unwrap();
+        assert!(w.push(&cells[..3]).is_err());
+        w.push(&cells).unwrap();
+        assert!(w.finish().is_err());
+        assert!(!c.exists());
     }
 
     #[test]

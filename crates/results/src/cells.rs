@@ -222,7 +222,7 @@ impl CellStats {
         (self.hists).percentile(false, &SHORT_AXIS, self.visits, p, self.height_max_m)
     }
 
-    fn merge(&mut self, o: &CellStats) {
+    pub(crate) fn merge(&mut self, o: &CellStats) {
         self.visits += o.visits;
         self.reached += o.reached;
         self.energy_sum += o.energy_sum;
@@ -278,14 +278,67 @@ pub(crate) struct CellTable {
     grid_len: usize,
     /// Blocks per block row: `ceil(ncols / 16)`.
     blocks_across: usize,
-    /// Per block of the grid (row-major), [`NONE`] or its index in `blocks`.
+    /// Per block of the grid (row-major), [`NONE`] or its index in `blocks`; empty until the
+    /// first cell is touched (a tally read for its other statistics allocates none).
     directory: Vec<u32>,
+    /// Blocks of the grid (the directory's length once made).
+    grid_blocks: usize,
     /// The blocks touched so far.
     blocks: Vec<Block>,
     /// The statistics, [`PAGE`] to a page; only the last page is not full.
     pages: Vec<Vec<CellStats>>,
     /// Entries in all pages.
     n_cells: usize,
+}
+
+/// Bytes of a table of a directory of `directory` blocks, `blocks` touched blocks and
+/// `cells` cells whose heap blocks take `heap` bytes: [`CellTable::heap_bytes`]'s count.
+fn table_bytes(directory: usize, blocks: usize, cells: usize, heap: usize) -> usize {
+    directory * 4
+        + blocks * size_of::<Block>()
+        + cells.div_ceil(PAGE) * PAGE * size_of::<CellStats>()
+        + heap
+}
+
+/// [`CellTable::compact_bytes`] of the table that would hold the cells given in any order, one
+/// by one ([`TableBytes::add`]): for a merge that streams the cells instead of holding them.
+#[derive(Debug, Clone)]
+pub(crate) struct TableBytes {
+    grid: CellTable,
+    blocks: Vec<bool>,
+    touched_blocks: usize,
+    cells: usize,
+    heap: usize,
+}
+
+impl TableBytes {
+    /// A count for the cells of `geometry`.
+    pub(crate) fn new(geometry: &GridGeometry) -> TableBytes {
+        let grid = CellTable::new(geometry, Thresholds::of_kj(&[]));
+        TableBytes {
+            blocks: vec![false; grid.grid_blocks],
+            grid,
+            touched_blocks: 0,
+            cells: 0,
+            heap: 0,
+        }
+    }
+
+    /// Counts `c` (a cell of the grid, counted once).
+    pub(crate) fn add(&mut self, c: &CellStats) {
+        if let Some((block, _)) = self.grid.locate(c.cell) {
+            self.touched_blocks += usize::from(!self.blocks[block]);
+            self.blocks[block] = true;
+            self.cells += 1;
+            self.heap += c.heap_bytes_with(PackedHists::compact_bytes);
+        }
+    }
+
+    /// The bytes.
+    pub(crate) fn bytes(&self) -> usize {
+        let directory = if self.cells > 0 { self.blocks.len() } else { 0 };
+        table_bytes(directory, self.touched_blocks, self.cells, self.heap)
+    }
 }
 
 impl CellTable {
@@ -298,7 +351,8 @@ impl CellTable {
             ncols: geometry.ncols,
             grid_len: geometry.len(),
             blocks_across,
-            directory: vec![NONE; blocks_across * blocks_down],
+            directory: Vec::new(),
+            grid_blocks: blocks_across * blocks_down,
             blocks: Vec::new(),
             pages: Vec::new(),
             n_cells: 0,
@@ -344,6 +398,9 @@ impl CellTable {
     #[inline]
     fn entry(&mut self, cell: usize) -> Option<&mut CellStats> {
         let (block, slot) = self.locate(cell)?;
+        if self.directory.is_empty() {
+            self.directory = vec![NONE; self.grid_blocks];
+        }
         let mut b = self.directory[block];
         if b == NONE {
             b = u32::try_from(self.blocks.len())
@@ -365,7 +422,7 @@ impl CellTable {
     /// Statistics of `cell`, when something happened there.
     pub(crate) fn get(&self, cell: usize) -> Option<&CellStats> {
         let (block, slot) = self.locate(cell)?;
-        let b = self.directory[block];
+        let b = *self.directory.get(block)?;
         if b == NONE {
             return None;
         }
@@ -404,12 +461,10 @@ impl CellTable {
     }
 
     fn bytes_with(&self, hist_bytes: fn(&PackedHists) -> usize) -> usize {
-        self.directory.len() * 4
-            + self.blocks.len() * size_of::<Block>()
-            + self.pages.len() * PAGE * size_of::<CellStats>()
-            + (self.touched())
-                .map(|c| c.heap_bytes_with(hist_bytes))
-                .sum::<usize>()
+        let heap = (self.touched())
+            .map(|c| c.heap_bytes_with(hist_bytes))
+            .sum::<usize>();
+        table_bytes(self.directory.len(), self.blocks.len(), self.n_cells, heap)
     }
 
     /// A visit of rock `rock_key` (= rock id + 1) released from `source` to `cell`.
@@ -491,7 +546,7 @@ impl CellTable {
             let Some((block, slot)) = self.locate(stats.cell) else {
                 continue;
             };
-            let b = self.directory[block];
+            let b = self.directory.get(block).copied().unwrap_or(NONE);
             let known = b != NONE && self.blocks[b as usize][slot] != NONE;
             match self.entry(stats.cell) {
                 Some(c) if known => c.merge(&stats),
@@ -664,7 +719,7 @@ mod tests {
             cell_size_m: 2.0,
         };
         let mut t = CellTable::new(&g, Thresholds::of_kj(&[]));
-        assert_eq!((t.directory.len(), t.blocks_allocated()), (625 * 625, 0));
+        assert_eq!((t.directory.len(), t.blocks_allocated()), (0, 0));
         let v = CellVisit {
             energy_j: 1.0,
             velocity_ms: 1.0,
@@ -680,6 +735,14 @@ mod tests {
         t.deposit(g.len() - 1);
         t.tree_impact(g.index(9_999, 0), 2.0, false);
         assert_eq!(t.blocks_allocated(), 16);
+        assert_eq!(t.directory.len(), 625 * 625);
+        // the streamed count of the same cells, in another order, is the table's
+        let mut streamed = TableBytes::new(&g);
+        assert_eq!(streamed.bytes(), 0);
+        let mut cells: Vec<&CellStats> = t.touched().collect();
+        cells.reverse();
+        cells.iter().for_each(|c| streamed.add(c));
+        assert_eq!(streamed.bytes(), t.compact_bytes());
         assert_eq!(t.len(), 203);
         assert_eq!(t.touched().count(), 203);
         assert_eq!(t.get(g.index(199, 5_000)).map(|c| c.visits), Some(1));

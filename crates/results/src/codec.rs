@@ -149,11 +149,23 @@ pub enum DecodeError {
 pub(crate) struct Dec<'a> {
     bytes: &'a [u8],
     pos: usize,
+    /// Bytes of the file past `bytes`, not read yet (a stream's buffer): lengths may count on
+    /// them, and a value running past `bytes` is [`DecodeError::Truncated`].
+    beyond: usize,
 }
 
 impl<'a> Dec<'a> {
     pub(crate) fn new(bytes: &'a [u8]) -> Self {
-        Dec { bytes, pos: 0 }
+        Dec::streaming(bytes, 0)
+    }
+
+    /// A decoder of `bytes`, the part read so far of a file with `beyond` bytes more.
+    pub(crate) fn streaming(bytes: &'a [u8], beyond: usize) -> Self {
+        Dec {
+            bytes,
+            pos: 0,
+            beyond,
+        }
     }
 
     pub(crate) fn take(&mut self, n: usize) -> Result<&'a [u8], DecodeError> {
@@ -195,7 +207,7 @@ impl<'a> Dec<'a> {
     pub(crate) fn len(&mut self, min_size: usize) -> Result<usize, DecodeError> {
         let at = self.pos;
         let n = self.u64()?;
-        let room = (self.bytes.len() - self.pos) / min_size.max(1);
+        let room = (self.bytes.len() - self.pos).saturating_add(self.beyond) / min_size.max(1);
         usize::try_from(n)
             .ok()
             .filter(|&n| n <= room)

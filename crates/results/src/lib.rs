@@ -60,6 +60,8 @@ mod profile;
 mod results;
 mod screens;
 mod source_set;
+mod stream;
+mod stream_write;
 mod summary;
 mod tally;
 mod tally_body;
@@ -82,6 +84,8 @@ pub use persist::{
 pub use profile::ProfileBin;
 pub use results::{RasterCells, Results, RunInfo, rocks_above_name};
 pub use screens::ScreenSet;
+pub use stream::{CellMerge, MergeSource, StreamCell, TallyStream};
+pub use stream_write::{CellBounds, StreamPlan};
 pub use summary::{MeanP95Max, MotionShares, Outcomes, Runout, ScreenSummary, Summary, TimeStats};
 pub use tally::{SharedCells, Tally};
 pub use write::{CROSSINGS_HEADER, ROCKS_HEADER, ResultsError, TRAJECTORY_HEADER, write_json};

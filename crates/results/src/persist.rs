@@ -41,7 +41,7 @@ pub const TALLY_FORMAT: u32 = 6;
 /// File name of a run folder's exact tallies.
 pub const TALLY_FILE: &str = "rockfall.tally";
 
-const MAGIC: &[u8; 8] = b"RFTALLY\0";
+pub(crate) const MAGIC: &[u8; 8] = b"RFTALLY\0";
 
 /// Why a tally file cannot be used. Every variant names the file.
 #[derive(Debug, thiserror::Error)]
@@ -93,7 +93,7 @@ pub struct SavedTally<M> {
 
 /// The layout as the header stores it.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-struct LayoutRecord {
+pub(crate) struct LayoutRecord {
     ncols: usize,
     nrows: usize,
     x_min_m: f64,
@@ -185,10 +185,10 @@ impl From<LayoutRecord> for Layout {
 }
 
 #[derive(Serialize, Deserialize)]
-struct Header<M> {
-    layout: LayoutRecord,
-    info: RunInfo,
-    run: M,
+pub(crate) struct Header<M> {
+    pub(crate) layout: LayoutRecord,
+    pub(crate) info: RunInfo,
+    pub(crate) run: M,
 }
 
 /// `tally` (no rock in progress) with `info` and the caller's `run` description, as the bytes

@@ -76,6 +76,12 @@ impl Kind {
                 | Kind::RocksAbove(_)
         )
     }
+
+    /// Rasters with a value in every cell: the counts, and `Reach_probability` (0 where no
+    /// rock passed). The others are nodata where nothing happened.
+    pub(crate) fn always_valid(self) -> bool {
+        self.is_count() || self == Kind::Reach
+    }
 }
 
 /// The result of a run: the merged tally turned into rasters (named as Rockyfor3D users know
@@ -96,6 +102,9 @@ pub struct Results {
     pub(crate) crossing_records: Vec<CrossingRecord>,
     /// How a convergence-driven run ended (`summary.json` `convergence`).
     pub(crate) convergence: Option<ConvergenceSummary>,
+    /// Cells reached and the bytes of their statistics, counted as they streamed past
+    /// ([`Results::write_streamed`]) when the tally holds no cells.
+    pub(crate) streamed: Option<(u64, usize)>,
 }
 
 /// `Nr_rocks_above_<e>kJ` raster name: `Nr_rocks_above_30kJ` for 30 kJ.
@@ -127,6 +136,7 @@ impl Results {
             rock_records,
             crossing_records,
             convergence: None,
+            streamed: None,
         }
     }
 
@@ -267,7 +277,7 @@ impl Results {
 
     /// The value of raster `kind` in a cell with statistics `c` (`None`: nothing happened
     /// there) of a run of `rocks` rocks; `None` for nodata.
-    fn cell_value(&self, kind: Kind, rocks: u64, c: Option<&CellStats>) -> Option<f64> {
+    pub(crate) fn cell_value(&self, kind: Kind, rocks: u64, c: Option<&CellStats>) -> Option<f64> {
         let visited = c.filter(|c| c.visits > 0);
         match kind {
             Kind::Passages => Some(c.map_or(0, |c| c.visits) as f64),

@@ -264,8 +264,13 @@ impl Results {
             .collect();
         let info = &self.info;
         let per_s = (info.wall_time_s > 0.0).then(|| rocks as f64 / info.wall_time_s);
-        let cell_bytes = self.tally.cells.compact_bytes();
-        let cells_reached = self.tally.cells.touched().filter(|c| c.visits > 0).count();
+        let (cells_reached, cell_bytes) = match self.streamed {
+            Some((reached, bytes)) => (reached as usize, bytes),
+            None => (
+                self.tally.cells.touched().filter(|c| c.visits > 0).count(),
+                self.tally.cells.compact_bytes(),
+            ),
+        };
         Summary {
             engine: info.engine.clone(),
             scenario: info.scenario.clone(),

@@ -135,6 +135,22 @@ fn read_crossing_record(d: &mut Dec<'_>, screens: usize) -> Result<CrossingRecor
 }
 
 pub(crate) fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeError> {
+    read_head(d, t)?;
+    let n = d.len(8)?;
+    let len = t.layout().geometry.len();
+    let thresholds = t.cells.thresholds().len();
+    for _ in 0..n {
+        let c = read_cell(d, thresholds)?;
+        if c.cell >= len {
+            return Err(d.corrupt(d.pos(), format!("cell {} outside the grid", c.cell)));
+        }
+        t.cells.absorb_owned([c]);
+    }
+    read_tail(d, t)
+}
+
+/// The body up to its cells: per-rock statistics, screens, speed profile.
+pub(crate) fn read_head(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeError> {
     let r = &mut t.rock;
     for n in &mut r.outcomes {
         *n = d.u64()?;
@@ -187,16 +203,11 @@ pub(crate) fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeErro
         h.max_ms = d.f64()?;
         t.profile.bins.push(h);
     }
-    let n = d.len(8)?;
-    let len = t.layout().geometry.len();
-    let thresholds = t.cells.thresholds().len();
-    for _ in 0..n {
-        let c = read_cell(d, thresholds)?;
-        if c.cell >= len {
-            return Err(d.corrupt(d.pos(), format!("cell {} outside the grid", c.cell)));
-        }
-        t.cells.absorb_owned([c]);
-    }
+    Ok(())
+}
+
+/// The body after its cells: trajectory rows, rock records, screen crossings.
+pub(crate) fn read_tail(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeError> {
     let n = d.len(16)?;
     t.rows.reserve(n);
     for _ in 0..n {
@@ -257,7 +268,7 @@ fn cell(e: &mut Enc, c: &CellStats, thresholds: usize) {
     }
 }
 
-fn read_cell(d: &mut Dec<'_>, thresholds: usize) -> Result<CellStats, DecodeError> {
+pub(crate) fn read_cell(d: &mut Dec<'_>, thresholds: usize) -> Result<CellStats, DecodeError> {
     let at = d.pos();
     let cell = usize::try_from(d.u64()?).map_err(|_| d.corrupt(at, "cell index".into()))?;
     let mut c = CellStats::new(cell);

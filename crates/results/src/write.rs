@@ -44,6 +44,9 @@ pub enum ResultsError {
     /// A raster could not be written (the error names the file).
     #[error(transparent)]
     Raster(#[from] RasterError),
+    /// A tally file streamed into the results could not be read (the error names it).
+    #[error(transparent)]
+    Tally(#[from] crate::TallyFileError),
 }
 
 impl From<(PathBuf, std::io::Error)> for ResultsError {
@@ -229,6 +232,17 @@ impl Results {
                 &mut written,
             )?;
         }
+        self.write_tables(out_dir, &mut written)?;
+        Ok(written)
+    }
+
+    /// Writes `summary.json`, `trajectories.csv` and, as the layout asks, `rocks.csv` and
+    /// `screen_crossings.csv` into `out_dir`; pushes the paths written.
+    pub(crate) fn write_tables(
+        &self,
+        out_dir: &Path,
+        written: &mut Vec<PathBuf>,
+    ) -> Result<(), ResultsError> {
         let summary = out_dir.join("summary.json");
         write_json(&summary, &self.summary())?;
         written.push(summary);
@@ -245,6 +259,6 @@ impl Results {
             write_crossings(&path, &self.crossing_records, &self.layout.screens)?;
             written.push(path);
         }
-        Ok(written)
+        Ok(())
     }
 }

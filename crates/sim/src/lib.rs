@@ -30,6 +30,7 @@ pub mod parameters;
 pub mod reduce;
 mod rock;
 pub mod share;
+pub mod streamed;
 pub mod tile;
 
 pub use batches::{

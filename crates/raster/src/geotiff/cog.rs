@@ -30,7 +30,6 @@ use super::GeoTags;
 use super::ifd::{Ifd, Kind, TILE_BYTE_COUNTS, TILE_OFFSETS, put};
 use super::overview::{Reducer, Resampling};
 use super::tile::{Sample, TileCoder};
-use crate::Rows;
 
 /// Tile width and height in cells. 256, GDAL's GeoTIFF default (`BLOCKXSIZE`), rather than
 /// the COG driver's 512: a band of tile rows (the memory the writer needs) is half as big,
@@ -128,72 +127,107 @@ impl<T: Sample> Level<T> {
     }
 }
 
-/// Writes `rows` as a COG at `path` (atomically), each cell through `sample` (nodata cells
-/// too: `sample(None)` is the marker), overviews by `rule`. Edge tiles are padded with the
-/// marker when the file names one (`tags.nodata`), else with zero.
-pub(super) fn write<T: Sample>(
-    path: &Path,
-    rows: &impl Rows,
-    tags: &GeoTags,
-    rule: Resampling,
-    sample: impl Fn(Option<f64>) -> Result<T, f64>,
-) -> Result<(), Failure> {
-    write_as(path, rows, tags, rule, sample, Kind::Classic)
-}
-
-/// [`write`], as BigTIFF even when classic TIFF would do if `min` is [`Kind::Big`].
+/// Writes `rows` as a COG at `path` through a [`CogWriter`], as BigTIFF even when classic
+/// TIFF would do if `min` is [`Kind::Big`] (for the tests of BigTIFF).
+#[cfg(test)]
 fn write_as<T: Sample>(
     path: &Path,
-    rows: &impl Rows,
+    rows: &impl crate::Rows,
     tags: &GeoTags,
     rule: Resampling,
     sample: impl Fn(Option<f64>) -> Result<T, f64>,
     min: Kind,
 ) -> Result<(), Failure> {
-    let marker = sample(None).map_err(|v| Failure::Cell((0, v)))?;
-    let pad = match tags.nodata {
-        Some(_) => marker,
-        None => T::from_f64(0.0),
-    };
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let levels = tile_levels(rows, rule, &sample, (marker, pad), dir)?;
-    crate::atomic::write_atomic(path, |w| assemble(w, levels, tags, min))
-}
-
-/// Every level's tiles, compressed into its temporary file in `dir`: the rows read north to
-/// south, each converted by `sample`, pushed into the full resolution and the overviews.
-fn tile_levels<T: Sample>(
-    rows: &impl Rows,
-    rule: Resampling,
-    sample: &impl Fn(Option<f64>) -> Result<T, f64>,
-    (marker, pad): (T, T),
-    dir: &Path,
-) -> Result<Vec<Level<T>>, Failure> {
     let g = rows.geometry();
-    let sizes = level_sizes(g.ncols, g.nrows);
-    let mut levels = (sizes.iter())
-        .map(|&s| Level::new(s, dir))
-        .collect::<io::Result<Vec<Level<T>>>>()?;
-    let mut reducer = Reducer::new(rule, (g.ncols, g.nrows), &sizes[1..], marker);
-    let mut coder = TileCoder::new(TILE, pad);
-    let mut packed = Vec::new();
+    let mut writer = CogWriter::new(path, (g.ncols, g.nrows), tags.clone(), rule, sample)?;
+    writer.min = min;
     let mut cells = vec![None; g.ncols];
-    let mut samples = Vec::with_capacity(g.ncols);
     for r in 0..g.nrows {
         rows.row(r, &mut cells);
-        samples.clear();
-        for (c, &cell) in cells.iter().enumerate() {
-            samples.push(sample(cell).map_err(|v| Failure::Cell((r * g.ncols + c, v)))?);
-        }
-        levels[0].push(&samples, &mut coder, &mut packed)?;
-        reducer.push(r, &cells, &samples, &mut |k, row| {
-            levels[k].push(row, &mut coder, &mut packed)
-        })?;
+        writer.push(&cells)?;
     }
-    Ok(levels)
+    writer.finish()
+}
+
+/// A COG being written row by row, north to south: every level's tiles are compressed into
+/// its temporary file (beside the target) as the rows arrive, each cell converted by
+/// `sample`; [`CogWriter::finish`] assembles the file. Edge tiles are padded with the marker
+/// when the file names one (`tags.nodata`), else with zero.
+pub(super) struct CogWriter<T: Sample, F> {
+    path: std::path::PathBuf,
+    width: usize,
+    tags: GeoTags,
+    min: Kind,
+    sample: F,
+    levels: Vec<Level<T>>,
+    reducer: Reducer<T>,
+    coder: TileCoder<T>,
+    packed: Vec<u8>,
+    samples: Vec<T>,
+    /// Rows pushed so far.
+    row: usize,
+}
+
+impl<T: Sample, F: Fn(Option<f64>) -> Result<T, f64>> CogWriter<T, F> {
+    /// A writer of a `width` × `height` raster to `path`, overviews by `rule`.
+    pub(super) fn new(
+        path: &Path,
+        (width, height): (usize, usize),
+        tags: GeoTags,
+        rule: Resampling,
+        sample: F,
+    ) -> Result<Self, Failure> {
+        let marker = sample(None).map_err(|v| Failure::Cell((0, v)))?;
+        let pad = match tags.nodata {
+            Some(_) => marker,
+            None => T::from_f64(0.0),
+        };
+        let dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        let sizes = level_sizes(width, height);
+        let levels = (sizes.iter())
+            .map(|&s| Level::new(s, dir))
+            .collect::<io::Result<Vec<Level<T>>>>()?;
+        Ok(CogWriter {
+            path: path.to_path_buf(),
+            width,
+            tags,
+            min: Kind::Classic,
+            sample,
+            levels,
+            reducer: Reducer::new(rule, (width, height), &sizes[1..], marker),
+            coder: TileCoder::new(TILE, pad),
+            packed: Vec::new(),
+            samples: Vec::with_capacity(width),
+            row: 0,
+        })
+    }
+
+    /// Adds the next row (one cell per column, `None` for nodata) to the full resolution and
+    /// the overviews.
+    pub(super) fn push(&mut self, cells: &[Option<f64>]) -> Result<(), Failure> {
+        let r = self.row;
+        self.samples.clear();
+        for (c, &cell) in cells.iter().enumerate() {
+            let s = (self.sample)(cell).map_err(|v| Failure::Cell((r * self.width + c, v)))?;
+            self.samples.push(s);
+        }
+        let (levels, coder, packed) = (&mut self.levels, &mut self.coder, &mut self.packed);
+        levels[0].push(&self.samples, coder, packed)?;
+        self.reducer.push(r, cells, &self.samples, &mut |k, row| {
+            levels[k].push(row, coder, packed)
+        })?;
+        self.row += 1;
+        Ok(())
+    }
+
+    /// Writes the file (atomically) from the levels' tiles; every row must have been pushed.
+    pub(super) fn finish(self) -> Result<(), Failure> {
+        let (levels, tags, min) = (self.levels, self.tags, self.min);
+        crate::atomic::write_atomic(&self.path, |w| assemble(w, levels, &tags, min))
+    }
 }
 
 /// The ghost area GDAL writes after the header (cog.rst, "Header ghost area"): a 43-byte
