@@ -10,7 +10,9 @@
 #        bench/tiles.sh 100000000 100           (10⁸ cells: 100 tiles ≤ 1 GB each)
 # ROCKFALL names the binary (default: target/release/rockfall of this workspace, built
 # first). Each tile's tally is removed once measured unless KEEP=1 (they are large), and
-# then no merge is made.
+# then no merge is made; with KEEP=1 the tiles are merged by `rockfall merge --stream` (in
+# bounded memory, whatever the region's size), and with SINGLE=1 also in memory, and both
+# merges compared with the single run.
 set -eu
 here=$(cd "$(dirname "$0")/.." && pwd)
 cells=$1 tiles=$2
@@ -35,6 +37,13 @@ print(f"{sys.argv[2]:<6} {d['rocks']:>10} {d['cells_reached']:>12} {len(d['passe
 PY
   [ "${KEEP:-0}" = 1 ] || rm -f "t$i/rockfall.tally"
 done
+if [ "${KEEP:-0}" = 1 ]; then
+  echo "tally files: $(du -cb t*/rockfall.tally | tail -1 | cut -f1) bytes"
+  dirs=$(for i in $(seq 1 "$tiles"); do printf 't%s ' "$i"; done)
+  # shellcheck disable=SC2086
+  /usr/bin/time -v "$bin" merge $dirs --stream --out streamed > streamed.log 2> streamed.time
+  echo "streamed merge: peak $(( $(peak streamed.time) / 1024 )) MB, $(wall streamed.time)"
+fi
 if [ "${SINGLE:-0}" = 1 ] && [ "${KEEP:-0}" = 1 ]; then
   /usr/bin/time -v "$bin" run region/scenario.toml --rocks-per-cell 1 --threads 2 \
     --out single > single.log 2> single.time
@@ -49,5 +58,12 @@ if [ "${SINGLE:-0}" = 1 ] && [ "${KEEP:-0}" = 1 ]; then
     echo "merged tiles differ from the single run"
   else
     echo "merged tiles: identical to the single run (every raster, table and summary.json)"
+  fi
+  # the streamed merge writes no tally, report, styles or QGIS project
+  if "$here/bench/compare.sh" single streamed | grep -v -e 'rockfall.tally' -e 'report' \
+    -e '\.qml' -e '\.qgs' -e '\.geojson'; then
+    echo "streamed merge differs from the single run"
+  else
+    echo "streamed merge: identical to the single run (every raster, table and summary.json)"
   fi
 fi

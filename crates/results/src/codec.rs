@@ -1,5 +1,8 @@
-//! Little-endian binary encoding for tally files: fixed-width integers and the bit patterns of
-//! floats, so that a decoded value is the encoded one, bit for bit.
+//! Binary encoding for tally files: unsigned integers as LEB128 varints (7 bits a byte, low
+//! bits first: a count below 128 takes one byte), `u32`s fixed (4 bytes, little-endian) and
+//! floats as their bit patterns (8 bytes, little-endian), so that a decoded value is the
+//! encoded one, bit for bit. Ascending indices (histogram bins, cells, source cells) are
+//! written as the gaps between them.
 
 /// Appends values to a byte buffer.
 #[derive(Debug, Default)]
@@ -80,19 +83,36 @@ impl Enc {
         self.buf.extend_from_slice(&v.to_le_bytes());
     }
 
+    /// `v` as a LEB128 varint (1 to 10 bytes).
     pub(crate) fn u64(&mut self, v: u64) {
-        self.room();
-        self.buf.extend_from_slice(&v.to_le_bytes());
+        self.u128(u128::from(v));
     }
 
-    pub(crate) fn u128(&mut self, v: u128) {
+    /// `v` as a LEB128 varint (1 to 19 bytes).
+    pub(crate) fn u128(&mut self, mut v: u128) {
         self.room();
-        self.buf.extend_from_slice(&v.to_le_bytes());
+        while v >= 0x80 {
+            self.buf.push((v as u8) | 0x80);
+            v >>= 7;
+        }
+        self.buf.push(v as u8);
     }
 
-    /// The bit pattern of `v` (NaN payloads and signed zeros survive).
+    /// The bit pattern of `v` (NaN payloads and signed zeros survive), 8 bytes.
     pub(crate) fn f64(&mut self, v: f64) {
-        self.u64(v.to_bits());
+        self.room();
+        self.buf.extend_from_slice(&v.to_bits().to_le_bytes());
+    }
+
+    /// Ascending `values` (each above the one before), as their number and the gaps between
+    /// them: the first as it is, each next less the one before and 1.
+    pub(crate) fn ascending(&mut self, n: usize, values: impl Iterator<Item = u64>) {
+        self.len(n);
+        let mut next = 0;
+        for v in values {
+            self.u64(v - next);
+            next = v + 1;
+        }
     }
 
     pub(crate) fn len(&mut self, n: usize) {
@@ -107,25 +127,20 @@ impl Enc {
     ) {
         let nonzero = bins.clone().filter(|&(_, c)| c.into() > 0).count();
         self.len(nonzero);
+        let mut next = 0;
         for (i, c) in bins {
             let c: u64 = c.into();
             if c > 0 {
-                self.u32(i as u32);
+                self.u64((i - next) as u64);
                 self.u64(c);
+                next = i + 1;
             }
         }
     }
 
+    /// A histogram as its non-empty bins: their number, then (gap to the bin, count) pairs.
     pub(crate) fn sparse<C: Copy + Into<u64>>(&mut self, counts: &[C]) {
-        let nonzero = counts.iter().filter(|&&c| c.into() > 0).count();
-        self.len(nonzero);
-        for (i, &c) in counts.iter().enumerate() {
-            let c: u64 = c.into();
-            if c > 0 {
-                self.u32(i as u32);
-                self.u64(c);
-            }
-        }
+        self.sparse_bins(counts.iter().copied().enumerate());
     }
 }
 
@@ -190,16 +205,48 @@ impl<'a> Dec<'a> {
         Ok(u32::from_le_bytes(self.array()?))
     }
 
+    /// A LEB128 varint that fits a `u64`.
     pub(crate) fn u64(&mut self) -> Result<u64, DecodeError> {
-        Ok(u64::from_le_bytes(self.array()?))
+        let at = self.pos;
+        let v = self.u128()?;
+        u64::try_from(v).map_err(|_| self.corrupt(at, format!("{v} does not fit 64 bits")))
     }
 
+    /// A LEB128 varint that fits a `u128`.
     pub(crate) fn u128(&mut self) -> Result<u128, DecodeError> {
-        Ok(u128::from_le_bytes(self.array()?))
+        let at = self.pos;
+        let mut v = 0u128;
+        for shift in (0..128).step_by(7) {
+            let b = self.u8()?;
+            let bits = u128::from(b & 0x7f);
+            if shift == 126 && bits > 3 {
+                break;
+            }
+            v |= bits << shift;
+            if b & 0x80 == 0 {
+                return Ok(v);
+            }
+        }
+        Err(self.corrupt(at, "a varint longer than 128 bits".into()))
     }
 
     pub(crate) fn f64(&mut self) -> Result<f64, DecodeError> {
-        Ok(f64::from_bits(self.u64()?))
+        Ok(f64::from_bits(u64::from_le_bytes(self.array()?)))
+    }
+
+    /// Values written by [`Enc::ascending`]; each at most `max`.
+    pub(crate) fn ascending(&mut self, max: u64) -> Result<Vec<u64>, DecodeError> {
+        let n = self.len(1)?;
+        let mut out = Vec::with_capacity(n);
+        let mut next = 0u64;
+        for _ in 0..n {
+            let at = self.pos;
+            let v = next.checked_add(self.u64()?).filter(|&v| v <= max);
+            let v = v.ok_or_else(|| self.corrupt(at, format!("a value past {max}")))?;
+            out.push(v);
+            next = v + 1;
+        }
+        Ok(out)
     }
 
     /// A length written by [`Enc::len`], at most `max` (what the remaining bytes could hold
@@ -225,10 +272,13 @@ impl<'a> Dec<'a> {
         counts: &mut [C],
         narrow: impl Fn(u64) -> Option<C>,
     ) -> Result<(), DecodeError> {
-        let n = self.len(12)?;
+        let n = self.len(2)?;
+        let mut next = 0usize;
         for _ in 0..n {
             let at = self.pos;
-            let (i, c) = (self.u32()? as usize, self.u64()?);
+            let (gap, c) = (self.u64()?, self.u64()?);
+            let i = usize::try_from(gap).map_or(usize::MAX, |g| next.saturating_add(g));
+            next = i.saturating_add(1);
             let slot = counts.get_mut(i);
             match (slot, narrow(c)) {
                 (Some(slot), Some(c)) => *slot = c,
@@ -242,14 +292,16 @@ impl<'a> Dec<'a> {
     /// `bins` bins with `u32` counts; an error for a bin past it, a count of 0 or above
     /// `u32::MAX`, or bins not ascending.
     pub(crate) fn sparse_bins(&mut self, bins: usize) -> Result<Vec<(usize, u32)>, DecodeError> {
-        let n = self.len(12)?;
+        let n = self.len(2)?;
         let mut out: Vec<(usize, u32)> = Vec::with_capacity(n);
+        let mut next = 0usize;
         for _ in 0..n {
             let at = self.pos;
-            let (i, c) = (self.u32()? as usize, self.u64()?);
-            let ascending = out.last().is_none_or(|&(last, _)| last < i);
+            let (gap, c) = (self.u64()?, self.u64()?);
+            let i = usize::try_from(gap).map_or(usize::MAX, |g| next.saturating_add(g));
+            next = i.saturating_add(1);
             match u32::try_from(c) {
-                Ok(c) if i < bins && c > 0 && ascending => out.push((i, c)),
+                Ok(c) if i < bins && c > 0 => out.push((i, c)),
                 _ => return Err(self.corrupt(at, format!("bin {i} (count {c}) does not fit"))),
             }
         }
@@ -328,16 +380,58 @@ mod tests {
         assert_eq!(h, [0, 5, 0, 9]);
         assert_eq!(d.remaining(), 0);
         assert_eq!(d.u8(), Err(DecodeError::Truncated(e.buf.len())));
-        // a bin past the histogram is refused
+        // a bin past the histogram is refused: 2 bins, then (gap 1, 5), (gap 1, 9)
         let mut small = [0u32; 2];
-        let mut d = Dec::new(&e.buf[e.buf.len() - 32..]);
+        let mut d = Dec::new(&e.buf[e.buf.len() - 5..]);
         assert!(
             d.sparse_into(&mut small, |c| u32::try_from(c).ok())
                 .is_err()
         );
         // an absurd length is refused before anything is allocated
-        let mut d = Dec::new(&[0xff; 8]);
+        let mut d = Dec::new(&[0xff, 0xff, 0xff, 0xff, 0x0f]);
         assert!(matches!(d.len(1), Err(DecodeError::Corrupt { .. })));
         assert_ne!(fnv1a(b"a"), fnv1a(b"b"));
+    }
+
+    #[test]
+    fn varints_take_a_byte_per_seven_bits_and_overlong_ones_are_refused() {
+        for (v, bytes) in [
+            (0u128, 1),
+            (127, 1),
+            (128, 2),
+            (u128::from(u64::MAX), 10),
+            (u128::MAX, 19),
+        ] {
+            let mut e = Enc::default();
+            e.u128(v);
+            assert_eq!(e.buf.len(), bytes, "{v}");
+            assert_eq!(Dec::new(&e.buf).u128(), Ok(v));
+        }
+        // past 64 bits for a u64, past 128 bits, and a varint that never ends
+        let mut e = Enc::default();
+        e.u128(u128::from(u64::MAX) + 1);
+        assert!(matches!(
+            Dec::new(&e.buf).u64(),
+            Err(DecodeError::Corrupt { .. })
+        ));
+        let mut past = vec![0xff; 18];
+        past.push(0x04);
+        assert!(matches!(
+            Dec::new(&past).u128(),
+            Err(DecodeError::Corrupt { .. })
+        ));
+        assert_eq!(
+            Dec::new(&[0x80, 0x80]).u64(),
+            Err(DecodeError::Truncated(2))
+        );
+        // ascending values as gaps
+        let mut e = Enc::default();
+        e.ascending(4, [0, 1, 300, 1 << 40].into_iter());
+        assert_eq!(e.buf.len(), 1 + 1 + 1 + 2 + 6);
+        assert_eq!(
+            Dec::new(&e.buf).ascending(1 << 40),
+            Ok(vec![0, 1, 300, 1 << 40])
+        );
+        assert!(Dec::new(&e.buf).ascending((1 << 40) - 1).is_err());
     }
 }

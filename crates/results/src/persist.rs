@@ -9,17 +9,20 @@
 //!
 //! # Format (version [`TALLY_FORMAT`])
 //!
-//! - 8 bytes magic `RFTALLY` + NUL, `u32` format version, `u64` length of the header, the
-//!   header as JSON: the [`Layout`] (grid, CRS, screens, percentiles, energy thresholds,
-//!   trajectories kept,
-//!   rock records kept), the [`RunInfo`] and the caller's description of the run (`run`:
-//!   what the run was and which rocks it covers; see `rockfall-sim`).
-//! - The body, little-endian: per-rock statistics, screens, speed profile, per-cell
-//!   statistics sorted by cell, trajectory rows sorted by (rock, sequence), rock records
-//!   sorted by rock, screen-crossing records sorted by (rock, sequence). Histograms are
-//!   stored as their non-empty bins. Floats are stored as their bit patterns.
-//! - A closing `u64` FNV-1a checksum of everything before it, so that a truncated or
-//!   damaged file is refused rather than merged.
+//! - 8 bytes magic `RFTALLY` + NUL, `u32` format version (little-endian), the length of the
+//!   header, the header as JSON: the [`Layout`] (grid, CRS, screens, percentiles, energy
+//!   thresholds, trajectories kept, rock records kept), the [`RunInfo`] and the caller's
+//!   description of the run (`run`: what the run was and which rocks it covers; see
+//!   `rockfall-sim`).
+//! - The body ([`crate::codec`]: integers as LEB128 varints, floats as their bit patterns):
+//!   per-rock statistics, screens, speed profile, per-cell statistics sorted by cell (each
+//!   cell as the gap from the one before), trajectory rows sorted by (rock, sequence), rock
+//!   records sorted by rock, screen-crossing records sorted by (rock, sequence). Histograms
+//!   are stored as their non-empty bins (each as the gap from the one before), a cell's
+//!   source cells likewise. Format 7 took varints and gaps for the fixed-width integers of
+//!   format 6: a third of the bytes on the regional tiles of `alpine-region`.
+//! - A closing FNV-1a checksum (`u64`, little-endian) of everything before it, so that a
+//!   truncated or damaged file is refused rather than merged.
 //!
 //! The file is the same whatever the thread count or merge order that produced the tally.
 
@@ -36,7 +39,7 @@ use crate::tally_body::{body, read_body};
 use crate::{Elevation, Layout, RunInfo, Tally};
 
 /// Version of the tally file format this build reads and writes.
-pub const TALLY_FORMAT: u32 = 6;
+pub const TALLY_FORMAT: u32 = 7;
 
 /// File name of a run folder's exact tallies.
 pub const TALLY_FILE: &str = "rockfall.tally";
@@ -201,7 +204,7 @@ pub fn encode_tally<M: Serialize>(
     let mut e = Enc::default();
     encode_content(&mut e, tally, info, run)?;
     let sum = fnv1a(&e.buf);
-    e.u64(sum);
+    e.buf.extend_from_slice(&sum.to_le_bytes());
     Ok(e.buf)
 }
 

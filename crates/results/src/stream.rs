@@ -153,20 +153,18 @@ impl TallyStream {
         self.cells
     }
 
-    /// The next cell's statistics, `None` after the last; cells come in increasing order, and
-    /// a file whose cells do not is damaged.
+    /// The next cell's statistics, `None` after the last; cells come in increasing order (the
+    /// file holds the gaps between them).
     pub fn next_cell(&mut self) -> Result<Option<StreamCell>, TallyFileError> {
         if self.cells_left == 0 {
             return Ok(None);
         }
         let thresholds = self.layout.energy_thresholds_kj.len();
         let thresholds = thresholds.min(crate::MAX_ENERGY_THRESHOLDS);
-        let c = self.r.decode(|d| read_cell(d, thresholds))?;
-        let len = self.layout.geometry.len();
-        if c.cell >= len || self.last_cell.is_some_and(|last| c.cell <= last) {
-            return Err(self
-                .r
-                .damaged_because(format!("cell {} outside the grid or out of order", c.cell)));
+        let next = self.last_cell.map_or(0, |last| last + 1);
+        let c = self.r.decode(|d| read_cell(d, thresholds, next))?;
+        if c.cell >= self.layout.geometry.len() {
+            return Err((self.r).damaged_because(format!("cell {} outside the grid", c.cell)));
         }
         self.last_cell = Some(c.cell);
         self.cells_left -= 1;

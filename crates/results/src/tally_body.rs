@@ -67,8 +67,10 @@ pub(crate) fn body(e: &mut Enc, t: &Tally) {
     cells.sort_unstable_by_key(|c| c.cell);
     e.len(cells.len());
     let thresholds = t.cells.thresholds().len();
+    let mut next = 0;
     for c in cells {
-        cell(e, c, thresholds);
+        cell(e, c, thresholds, next);
+        next = c.cell + 1;
     }
     let mut rows: Vec<_> = t.rows.iter().collect();
     rows.sort_unstable_by_key(|(rock, seq, _)| (*rock, *seq));
@@ -139,11 +141,13 @@ pub(crate) fn read_body(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeErro
     let n = d.len(8)?;
     let len = t.layout().geometry.len();
     let thresholds = t.cells.thresholds().len();
+    let mut next = 0;
     for _ in 0..n {
-        let c = read_cell(d, thresholds)?;
+        let c = read_cell(d, thresholds, next)?;
         if c.cell >= len {
             return Err(d.corrupt(d.pos(), format!("cell {} outside the grid", c.cell)));
         }
+        next = c.cell + 1;
         t.cells.absorb_owned([c]);
     }
     read_tail(d, t)
@@ -195,7 +199,7 @@ pub(crate) fn read_head(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeErro
     if bin_m.to_bits() != t.profile.bin_m.to_bits() {
         return Err(d.corrupt(d.pos(), format!("profile bins of {bin_m} m")));
     }
-    let bins = d.len(16)?;
+    let bins = d.len(9)?;
     t.profile.bins = Vec::with_capacity(bins);
     for _ in 0..bins {
         let mut h = SpeedHistogram::new();
@@ -219,7 +223,7 @@ pub(crate) fn read_tail(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeErro
     for _ in 0..n {
         t.rock_records.push(read_rock_record(d)?);
     }
-    let n = d.len(60)?;
+    let n = d.len(54)?;
     t.crossing_records.reserve(n);
     for _ in 0..n {
         let screens = t.screens.len();
@@ -228,8 +232,10 @@ pub(crate) fn read_tail(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeErro
     Ok(())
 }
 
-fn cell(e: &mut Enc, c: &CellStats, thresholds: usize) {
-    e.len(c.cell);
+/// Cell `c`, the one before it being `next` − 1 (`next` = 0 for the first): its index is
+/// written as the gap from `next`.
+fn cell(e: &mut Enc, c: &CellStats, thresholds: usize, next: usize) {
+    e.len(c.cell - next);
     for n in [
         c.visits,
         c.reached,
@@ -262,15 +268,21 @@ fn cell(e: &mut Enc, c: &CellStats, thresholds: usize) {
             e.u64(c.above(k));
         }
     }
-    e.len(usize::try_from(c.sources.len()).unwrap_or(usize::MAX));
-    for s in c.sources.iter() {
-        e.u32(s);
-    }
+    let n = usize::try_from(c.sources.len()).unwrap_or(usize::MAX);
+    e.ascending(n, c.sources.iter().map(u64::from));
 }
 
-pub(crate) fn read_cell(d: &mut Dec<'_>, thresholds: usize) -> Result<CellStats, DecodeError> {
+/// A cell written by `cell` after the one before `next` (0 for the first).
+pub(crate) fn read_cell(
+    d: &mut Dec<'_>,
+    thresholds: usize,
+    next: usize,
+) -> Result<CellStats, DecodeError> {
     let at = d.pos();
-    let cell = usize::try_from(d.u64()?).map_err(|_| d.corrupt(at, "cell index".into()))?;
+    let cell = usize::try_from(d.u64()?)
+        .ok()
+        .and_then(|gap| next.checked_add(gap))
+        .ok_or_else(|| d.corrupt(at, "cell index".into()))?;
     let mut c = CellStats::new(cell);
     c.visits = d.u64()?;
     c.reached = d.u64()?;
@@ -304,8 +316,8 @@ pub(crate) fn read_cell(d: &mut Dec<'_>, thresholds: usize) -> Result<CellStats,
     if extra.deposited > 0 || extra.tree_impacts > 0 || extra.above.iter().any(|&n| n > 0) {
         c.extra = Some(Box::new(extra));
     }
-    let n = d.len(4)?;
-    let sources = (0..n).map(|_| d.u32()).collect::<Result<Vec<_>, _>>()?;
+    let sources = d.ascending(u64::from(u32::MAX))?;
+    let sources: Vec<u32> = sources.into_iter().map(|s| s as u32).collect();
     c.sources = SourceSet::from_sorted(sources)
         .ok_or_else(|| d.corrupt(at, format!("sources of cell {cell} not ascending")))?;
     Ok(c)
