@@ -150,8 +150,9 @@ pub enum Command {
         /// grids.
         #[arg(long, conflicts_with_all = ["ascii", "input"])]
         stream: bool,
-        /// Threads reading the tallies in a streamed merge's first reading (default: the
-        /// machine's cores).
+        /// Threads of a streamed merge: reading the tallies the first time, compressing the
+        /// rasters' tiles (default: the machine's cores; the files are the same whatever
+        /// the number).
         #[arg(long, requires = "stream")]
         threads: Option<u64>,
     },

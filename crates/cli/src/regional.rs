@@ -261,23 +261,31 @@ pub fn merge_streamed(dirs: &[PathBuf], out: &Path, threads: Option<u64>) -> Res
         Some(n) => usize::try_from(n).unwrap_or(usize::MAX),
         None => std::thread::available_parallelism().map_or(1, usize::from),
     };
+    // a tally unreadable or changed in a later reading is bad input too
     let failure = |e: StreamedMergeError| match e {
+        StreamedMergeError::Write(rockfall_results::ResultsError::Tally(e)) => {
+            Failure::BadInput(e.into())
+        }
         StreamedMergeError::Write(e) => Failure::Internal(e.into()),
         e => Failure::BadInput(e.into()),
     };
+    let start = std::time::Instant::now();
     let survey = streamed::survey(&files, threads).map_err(failure)?;
     println!(
-        "read {} tallies of {} rocks: {} cells in all",
+        "read {} tallies of {} rocks in {:.1} s: {} cells in all",
         files.len(),
         survey.merged.record.rocks_total,
+        start.elapsed().as_secs_f64(),
         survey.bounds.touched
     );
-    let written = streamed::write(survey, out).map_err(failure)?;
+    let start = std::time::Instant::now();
+    let written = streamed::write(survey, out, threads).map_err(failure)?;
     println!(
-        "merged {} shares of {} rocks, streaming their cells ({} readings, at most {} tallies \
-         open at once)",
+        "merged {} shares of {} rocks in {:.1} s, streaming their cells ({} readings, at most \
+         {} tallies open at once)",
         dirs.len(),
         written.record.rocks_total,
+        start.elapsed().as_secs_f64(),
         written.readings,
         written.most_open
     );

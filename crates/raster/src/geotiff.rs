@@ -178,6 +178,16 @@ impl RowWriter {
         })
     }
 
+    /// Compresses the tiles of each band on the current rayon pool (the caller's
+    /// `ThreadPool::install`, else the global pool): the same bytes, sooner.
+    pub fn parallel(&mut self) {
+        match &mut self.cog {
+            Cog::F64(w) => w.parallel = true,
+            Cog::F32(w) => w.parallel = true,
+            Cog::I32(w) => w.parallel = true,
+        }
+    }
+
     /// Adds the next row: one cell per column, `None` for nodata.
     pub fn push(&mut self, cells: &[Option<f64>]) -> Result<(), RasterError> {
         let g = self.geometry;

@@ -119,8 +119,9 @@ impl Enc {
         self.u64(n as u64);
     }
 
-    /// A histogram as its non-empty bins: their number, then (bin, count) pairs.
-    /// The non-zero `(bin, count)` pairs of `bins`, as [`Enc::sparse`] writes dense counts.
+    /// The non-zero `(bin, count)` pairs of `bins` (bins ascending): their number, then (gap
+    /// from the bin after the one before, count) pairs, as [`Enc::sparse`] writes dense
+    /// counts.
     pub(crate) fn sparse_bins<C: Copy + Into<u64>>(
         &mut self,
         bins: impl Iterator<Item = (usize, C)> + Clone,
@@ -237,20 +238,21 @@ impl<'a> Dec<'a> {
     /// Values written by [`Enc::ascending`]; each at most `max`.
     pub(crate) fn ascending(&mut self, max: u64) -> Result<Vec<u64>, DecodeError> {
         let n = self.len(1)?;
-        let mut out = Vec::with_capacity(n);
+        let mut out = Vec::with_capacity(self.capacity(n, 1));
         let mut next = 0u64;
         for _ in 0..n {
             let at = self.pos;
             let v = next.checked_add(self.u64()?).filter(|&v| v <= max);
             let v = v.ok_or_else(|| self.corrupt(at, format!("a value past {max}")))?;
             out.push(v);
-            next = v + 1;
+            next = v.saturating_add(1);
         }
         Ok(out)
     }
 
-    /// A length written by [`Enc::len`], at most `max` (what the remaining bytes could hold
-    /// at `min_size` bytes per element, so that corrupt lengths never allocate).
+    /// A length written by [`Enc::len`], at most what the remaining bytes of the file could
+    /// hold at `min_size` bytes per element (a corrupt length is refused; allocate for it
+    /// no more than [`Dec::capacity`]).
     pub(crate) fn len(&mut self, min_size: usize) -> Result<usize, DecodeError> {
         let at = self.pos;
         let n = self.u64()?;
@@ -259,6 +261,13 @@ impl<'a> Dec<'a> {
             .ok()
             .filter(|&n| n <= room)
             .ok_or_else(|| self.corrupt(at, format!("length {n} exceeds the file")))
+    }
+
+    /// Room to reserve for `n` elements of at least `min_size` bytes: no more than the bytes
+    /// in hand could hold, so that a length a stream has not checked yet (the checksum comes
+    /// last) never allocates more than the buffer.
+    pub(crate) fn capacity(&self, n: usize, min_size: usize) -> usize {
+        n.min(self.remaining() / min_size.max(1))
     }
 
     pub(crate) fn corrupt(&self, offset: usize, what: String) -> DecodeError {
@@ -290,10 +299,10 @@ impl<'a> Dec<'a> {
 
     /// Sparse `(bin, count)` pairs (as [`Enc::sparse_bins`] wrote them) of a histogram of
     /// `bins` bins with `u32` counts; an error for a bin past it, a count of 0 or above
-    /// `u32::MAX`, or bins not ascending.
+    /// `u32::MAX`.
     pub(crate) fn sparse_bins(&mut self, bins: usize) -> Result<Vec<(usize, u32)>, DecodeError> {
         let n = self.len(2)?;
-        let mut out: Vec<(usize, u32)> = Vec::with_capacity(n);
+        let mut out: Vec<(usize, u32)> = Vec::with_capacity(self.capacity(n, 2));
         let mut next = 0usize;
         for _ in 0..n {
             let at = self.pos;

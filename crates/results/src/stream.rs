@@ -188,14 +188,25 @@ impl TallyStream {
         self.r.close()
     }
 
-    /// [`TallyStream::finish`], the trajectory rows and records dropped.
-    pub fn finish_discarding(self) -> Result<u64, TallyFileError> {
-        let mut scratch = Tally::new(self.layout.clone());
-        self.finish(&mut scratch)
+    /// Reads the rest of the file without decoding it — for a file read whole before, whose
+    /// checksum the caller compares with the one returned — and checks the checksum;
+    /// returns it. Holds no more than the buffer.
+    pub fn finish_unread(self) -> Result<u64, TallyFileError> {
+        self.r.skip_and_close()
     }
 }
 
 impl Reader {
+    /// Hashes the bytes not consumed yet, chunk by chunk, then checks the checksum.
+    fn skip_and_close(mut self) -> Result<u64, TallyFileError> {
+        self.start = self.buf.len();
+        while self.read < self.content_len {
+            self.refill()?;
+            self.start = self.buf.len();
+        }
+        self.close()
+    }
+
     /// Checks that every byte but the checksum was consumed, and the checksum; returns it.
     fn close(mut self) -> Result<u64, TallyFileError> {
         if self.read != self.content_len || self.start != self.buf.len() {
@@ -220,7 +231,7 @@ impl Reader {
         mut f: impl FnMut(&mut Dec<'_>) -> Result<T, DecodeError>,
     ) -> Result<T, TallyFileError> {
         loop {
-            let beyond = (self.content_len - self.read) as usize;
+            let beyond = usize::try_from(self.content_len - self.read).unwrap_or(usize::MAX);
             let mut d = Dec::streaming(&self.buf[self.start..], beyond);
             match f(&mut d) {
                 Ok(v) => {
@@ -384,7 +395,8 @@ impl CellMerge {
                 self.open[slot] = Some((stream, next, source));
             }
             None => {
-                let sum = stream.finish_discarding()?;
+                // the first reading checked the tail; the checksum proves it is the same
+                let sum = stream.finish_unread()?;
                 if sum != source.checksum {
                     return Err(TallyFileError::Damaged {
                         path: source.path,

@@ -157,7 +157,8 @@ impl Results {
     /// [`Results::write`] would write them had it held them, then `summary.json` (with the
     /// cells reached and their statistics' bytes counted as they passed), `trajectories.csv`
     /// and, as the layout asks, `rocks.csv` and `screen_crossings.csv`. No ASCII grids. A
-    /// raster file appears only once every cell has passed. Returns the paths written.
+    /// raster file appears only once every cell has passed. The rasters' tiles are
+    /// compressed on the current rayon pool. Returns the paths written.
     pub fn write_streamed(
         &mut self,
         out_dir: &Path,
@@ -172,7 +173,9 @@ impl Results {
         for (name, _, sample, nodata) in &plan.0 {
             let path = out_dir.join(format!("{name}.tif"));
             let crs = self.layout.crs.as_ref();
-            writers.push(RowWriter::create(&path, g, crs, *sample, *nodata)?);
+            let mut w = RowWriter::create(&path, g, crs, *sample, *nodata)?;
+            w.parallel();
+            writers.push(w);
             paths.push(path);
         }
         let defaults: Vec<Option<f64>> = (plan.0.iter())

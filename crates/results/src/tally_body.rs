@@ -1,6 +1,7 @@
 //! The body of a tally file ([`crate::persist`]): per-rock statistics, screens, the speed
 //! profile, per-cell statistics sorted by cell, trajectory rows, rock records and screen
-//! crossings, little-endian, floats as their bit patterns, histograms as their non-empty bins.
+//! crossings; integers as varints, floats as their bit patterns, histograms as their
+//! non-empty bins, ascending indices as gaps ([`crate::codec`]).
 
 use crate::cells::{CellStats, Extra};
 use crate::codec::{Dec, DecodeError, Enc};
@@ -213,18 +214,18 @@ pub(crate) fn read_head(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeErro
 /// The body after its cells: trajectory rows, rock records, screen crossings.
 pub(crate) fn read_tail(d: &mut Dec<'_>, t: &mut Tally) -> Result<(), DecodeError> {
     let n = d.len(16)?;
-    t.rows.reserve(n);
+    t.rows.reserve(d.capacity(n, 16));
     for _ in 0..n {
         let (rock, seq) = (d.u64()?, d.u64()?);
         t.rows.push((rock, seq, read_trajectory_row(d)?));
     }
     let n = d.len(8)?;
-    t.rock_records.reserve(n);
+    t.rock_records.reserve(d.capacity(n, 8));
     for _ in 0..n {
         t.rock_records.push(read_rock_record(d)?);
     }
     let n = d.len(54)?;
-    t.crossing_records.reserve(n);
+    t.crossing_records.reserve(d.capacity(n, 54));
     for _ in 0..n {
         let screens = t.screens.len();
         t.crossing_records.push(read_crossing_record(d, screens)?);

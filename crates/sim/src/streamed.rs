@@ -10,7 +10,9 @@
 //! cell order ([`CellMerge`]) straight into the rasters ([`Results::write_streamed`]); a
 //! third reading precedes it only when the bounds leave a raster's sample type or nodata
 //! marker open. Memory: the per-rock parts, one band of rows per raster, and the cells in
-//! flight of the files open at once — those whose cells span the row being written.
+//! flight of the files open at once — those whose cells span the row being written. The
+//! rasters' tiles are compressed on the threads asked for (the deflate of the tiles took
+//! 56 % of the writing on one thread, `perf` on the 10⁸-cell region's merge).
 
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -133,8 +135,20 @@ pub struct Written {
     pub most_open: usize,
 }
 
-/// Writes the merge of `survey` into `out` (see the module docs).
-pub fn write(survey: Survey, out: &Path) -> Result<Written, StreamedMergeError> {
+/// Writes the merge of `survey` into `out` (see the module docs), the rasters' tiles
+/// compressed on `threads` threads (the same bytes whatever their number).
+pub fn write(survey: Survey, out: &Path, threads: usize) -> Result<Written, StreamedMergeError> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build();
+    match pool {
+        Ok(pool) => pool.install(|| write_in(survey, out)),
+        // no thread to be had: the calling thread alone
+        Err(_) => write_in(survey, out),
+    }
+}
+
+fn write_in(survey: Survey, out: &Path) -> Result<Written, StreamedMergeError> {
     let Survey {
         merged,
         sources,

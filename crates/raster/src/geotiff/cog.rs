@@ -16,6 +16,11 @@
 //! [`TILE`] × [`TILE`] cells. The GeoKeys, pixel scale and tiepoint are on the first IFD
 //! only, as GDAL writes them; `GDAL_NODATA` is on every IFD.
 //!
+//! Threads: a writer asked to (`RowWriter::parallel`) compresses the tiles of a band on the
+//! current rayon pool — the caller's `ThreadPool::install`, else the global pool — and writes
+//! them in order: the same bytes. Otherwise it works on the calling thread alone, so a
+//! caller's thread count is never exceeded unasked.
+//!
 //! Memory: the rows arrive north to south; each level keeps one band of [`TILE`] rows of its
 //! width (about twice the full-resolution band in all), and writes the band's tiles,
 //! compressed, to a temporary file of its own (anonymous, beside the target) as soon as the
@@ -95,30 +100,57 @@ impl<T: Sample> Level<T> {
     }
 
     /// Adds the next row; writes the band's tiles when it is full or the level complete.
+    /// With `parallel`, the band's tiles are compressed on the current rayon pool.
     fn push(
         &mut self,
         row: &[T],
         coder: &mut TileCoder<T>,
         packed: &mut Vec<u8>,
+        parallel: bool,
     ) -> io::Result<()> {
         self.band.extend_from_slice(row);
         self.rows += 1;
         if !self.rows.is_multiple_of(TILE) && self.rows != self.height {
             return Ok(());
         }
-        for col0 in (0..self.width).step_by(TILE) {
-            packed.clear();
-            coder.encode(&self.band, self.width, col0, packed)?;
-            let len = u32::try_from(packed.len()).map_err(io::Error::other)?;
-            // a zlib stream has at least 6 bytes: the trailer exists
-            let trailer = &packed[packed.len() - 4..];
-            self.written += put(&mut self.data, &len.to_le_bytes())?;
-            self.offsets.push(self.written);
-            self.counts.push(u64::from(len));
-            self.written += put(&mut self.data, packed)?;
-            self.written += put(&mut self.data, trailer)?;
+        let starts: Vec<usize> = (0..self.width).step_by(TILE).collect();
+        if parallel && starts.len() > 1 {
+            // the band's tiles compressed in parallel, written in order
+            use rayon::prelude::*;
+            let (band, width) = (&self.band, self.width);
+            let tiles = (starts.par_iter())
+                .map_init(
+                    || coder.clone(),
+                    |coder, &col0| {
+                        let mut out = Vec::new();
+                        coder.encode(band, width, col0, &mut out).map(|()| out)
+                    },
+                )
+                .collect::<io::Result<Vec<Vec<u8>>>>()?;
+            for tile in &tiles {
+                self.put_tile(tile)?;
+            }
+        } else {
+            for col0 in starts {
+                packed.clear();
+                coder.encode(&self.band, self.width, col0, packed)?;
+                self.put_tile(packed)?;
+            }
         }
         self.band.clear();
+        Ok(())
+    }
+
+    /// Appends a compressed tile with its leader and trailer.
+    fn put_tile(&mut self, packed: &[u8]) -> io::Result<()> {
+        let len = u32::try_from(packed.len()).map_err(io::Error::other)?;
+        // a zlib stream has at least 6 bytes: the trailer exists
+        let trailer = &packed[packed.len() - 4..];
+        self.written += put(&mut self.data, &len.to_le_bytes())?;
+        self.offsets.push(self.written);
+        self.counts.push(u64::from(len));
+        self.written += put(&mut self.data, packed)?;
+        self.written += put(&mut self.data, trailer)?;
         Ok(())
     }
 
@@ -141,6 +173,7 @@ fn write_as<T: Sample>(
     let g = rows.geometry();
     let mut writer = CogWriter::new(path, (g.ncols, g.nrows), tags.clone(), rule, sample)?;
     writer.min = min;
+    writer.parallel = rayon::current_thread_index().is_some();
     let mut cells = vec![None; g.ncols];
     for r in 0..g.nrows {
         rows.row(r, &mut cells);
@@ -166,6 +199,8 @@ pub(super) struct CogWriter<T: Sample, F> {
     samples: Vec<T>,
     /// Rows pushed so far.
     row: usize,
+    /// Compress a band's tiles on the current rayon pool (see the module docs).
+    pub(super) parallel: bool,
 }
 
 impl<T: Sample, F: Fn(Option<f64>) -> Result<T, f64>> CogWriter<T, F> {
@@ -202,6 +237,7 @@ impl<T: Sample, F: Fn(Option<f64>) -> Result<T, f64>> CogWriter<T, F> {
             packed: Vec::new(),
             samples: Vec::with_capacity(width),
             row: 0,
+            parallel: false,
         })
     }
 
@@ -215,9 +251,10 @@ impl<T: Sample, F: Fn(Option<f64>) -> Result<T, f64>> CogWriter<T, F> {
             self.samples.push(s);
         }
         let (levels, coder, packed) = (&mut self.levels, &mut self.coder, &mut self.packed);
-        levels[0].push(&self.samples, coder, packed)?;
+        let parallel = self.parallel;
+        levels[0].push(&self.samples, coder, packed, parallel)?;
         self.reducer.push(r, cells, &self.samples, &mut |k, row| {
-            levels[k].push(row, coder, packed)
+            levels[k].push(row, coder, packed, parallel)
         })?;
         self.row += 1;
         Ok(())
@@ -416,6 +453,44 @@ mod tests {
         assert!(at.data[1] < at.data[0]);
         let (_, at) = plan(&levels, &tags(), ghost, Kind::Big);
         assert_eq!((at.kind, at.first_ifd), (Kind::Big, 200));
+    }
+
+    /// Inside a pool of 3 threads, a raster of 5 × 3 tiles (the last row and column partial)
+    /// is written with the bytes the calling thread alone writes.
+    #[test]
+    fn tiles_compressed_in_a_pool_write_the_same_bytes() {
+        let dir = tempfile::tempdir().unwrap();
+        let g = GridGeometry {
+            ncols: 4 * TILE + 17,
+            nrows: 2 * TILE + 5,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 1.0,
+        };
+        let grid = Grid::from_fn(g, |r, c| ((r * c) % 7 != 0).then_some((r * 31 + c) as f64));
+        let sample = |v: Option<f64>| Ok::<_, f64>(v.unwrap_or(-9999.0) as f32);
+        let (alone, pooled) = (dir.path().join("a.tif"), dir.path().join("p.tif"));
+        let write = |path: &Path| {
+            write_as(
+                path,
+                &grid,
+                &tags(),
+                Resampling::Average,
+                sample,
+                Kind::Classic,
+            )
+            .unwrap_or_else(|_| panic!())
+        };
+        write(&alone);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            assert!(rayon::current_thread_index().is_some());
+            write(&pooled)
+        });
+        assert!(std::fs::read(&alone).unwrap() == std::fs::read(&pooled).unwrap());
     }
 
     /// A BigTIFF reads back as the classic file of the same grid does.

@@ -21,7 +21,7 @@ use std::io;
 use tiff::encoder::compression::{CompressionAlgorithm, Deflate, DeflateLevel};
 
 /// A sample type we write: its TIFF tags and predictor.
-pub(super) trait Sample: Copy + PartialEq + std::fmt::Debug {
+pub(super) trait Sample: Copy + PartialEq + std::fmt::Debug + Send + Sync {
     /// BitsPerSample.
     const BITS: u16;
     /// SampleFormat: 2 = two's complement signed integer, 3 = IEEE floating point.
@@ -116,6 +116,7 @@ fn float_predict<T: Copy, const N: usize>(
 }
 
 /// Cuts, predicts and compresses tiles, reusing its buffers.
+#[derive(Clone)]
 pub(super) struct TileCoder<T> {
     size: usize,
     pad: T,
