@@ -123,13 +123,14 @@ pub enum Command {
         #[arg(long, value_name = "DIR", conflicts_with_all = ["engine", "rocks_per_cell", "rocks_per_point", "seed", "partition", "until_stable", "tile", "tiles"])]
         resume: Option<PathBuf>,
     },
-    /// Merge the run folders of the shares of one run (`rockfall run --partition i/N`, all N
-    /// of them) into the folder of the whole run: tallies summed exactly, so the rasters and
-    /// summary.json are bit-identical to a single run's (timings aside). Folders of different
-    /// inputs, seeds or versions, missing or repeated shares, and unfinished shares are
-    /// refused (exit 2), naming the difference.
+    /// Merge the run folders of the shares of one run (`rockfall run --partition i/N` or
+    /// `--tile i/N`, all N of them) into the folder of the whole run: tallies summed exactly,
+    /// so the rasters and summary.json are bit-identical to a single run's (timings aside).
+    /// Folders of different inputs, seeds or versions, missing or repeated shares, and
+    /// unfinished shares are refused (exit 2), naming the difference. --stream merges regions
+    /// too large to hold.
     Merge {
-        /// The shares' output folders (each holds a rockfall.tally).
+        /// The shares' or tiles' output folders (each holds a rockfall.tally).
         #[arg(required = true, num_args = 1..)]
         dirs: Vec<PathBuf>,
         /// Output folder of the merged run (created if needed).
