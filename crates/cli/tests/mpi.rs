@@ -113,18 +113,7 @@ fn a_bad_input_is_reported_once_by_rank_0_with_exit_2() {
 #[test]
 fn two_ranks_of_tiles_write_the_one_process_run_byte_for_byte() {
     let tmp = tempfile::tempdir().unwrap();
-    let region = tmp.path().join("region");
-    ok(rockfall(&[
-        "site",
-        "alpine-region",
-        "--cells",
-        "40000",
-        "--seed",
-        "5",
-        "--out",
-        s(&region),
-    ]));
-    let scenario = region.join("scenario.toml");
+    let scenario = common::alpine_region(&tmp.path().join("region"), "5");
     let (one, two) = (tmp.path().join("one"), tmp.path().join("two"));
     let common = ["--rocks-per-cell", "2", "--threads", "1"];
     let mut a1 = vec!["run", s(&scenario), "--out", s(&one)];

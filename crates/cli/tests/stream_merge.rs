@@ -6,24 +6,8 @@
 
 mod common;
 
-use common::{bad_input, ok, rockfall, s, same_outputs};
+use common::{alpine_region, bad_input, ok, rockfall, s, same_outputs};
 use std::path::{Path, PathBuf};
-
-/// A 200 × 200-cell alpine-region (5 m cells) in `tmp`: its scenario file.
-fn region(tmp: &Path) -> PathBuf {
-    let dir = tmp.join("region");
-    ok(rockfall(&[
-        "site",
-        "alpine-region",
-        "--cells",
-        "40000",
-        "--seed",
-        "7",
-        "--out",
-        s(&dir),
-    ]));
-    dir.join("scenario.toml")
-}
 
 fn run(scenario: &Path, extra: &[&str], out: &Path) -> String {
     let mut args = vec!["run", s(scenario), "--rocks-per-cell", "2", "--out", s(out)];
@@ -55,7 +39,7 @@ fn tifs(dir: &Path) -> usize {
 #[test]
 fn streamed_merges_of_tiles_and_shares_write_the_same_files() {
     let tmp = tempfile::tempdir().unwrap();
-    let scenario = region(tmp.path());
+    let scenario = alpine_region(&tmp.path().join("region"), "7");
     let single = tmp.path().join("single");
     run(&scenario, &[], &single);
     let tiles: Vec<PathBuf> = (1..=4)

@@ -6,24 +6,14 @@
 
 mod common;
 
-use common::{bad_input, json, ok, rockfall, s, same_outputs};
+use common::{alpine_region, bad_input, json, ok, rockfall, s, same_outputs};
 use std::path::{Path, PathBuf};
 
 /// A 200 × 200-cell alpine-region (5 m cells) in a fresh folder: (tempdir, scenario file).
 fn region() -> (tempfile::TempDir, PathBuf) {
     let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path().join("region");
-    ok(rockfall(&[
-        "site",
-        "alpine-region",
-        "--cells",
-        "40000",
-        "--seed",
-        "5",
-        "--out",
-        s(&dir),
-    ]));
-    (tmp, dir.join("scenario.toml"))
+    let scenario = alpine_region(&tmp.path().join("region"), "5");
+    (tmp, scenario)
 }
 
 fn run_tile(scenario: &Path, tile: &str, halo_m: &str, threads: &str, out: &Path) -> String {

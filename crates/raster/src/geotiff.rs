@@ -77,6 +77,17 @@ pub fn write_rows(path: &Path, rows: &impl Rows, sample: SampleType) -> Result<(
 /// A converter of cells to samples of type `T` (`Err(value)` for a value `T` cannot hold).
 type ToSample<T> = Box<dyn Fn(Option<f64>) -> Result<T, f64> + Send>;
 
+/// `$body` on the COG writer `$w` of whichever sample type `$cog` holds.
+macro_rules! on_cog {
+    ($cog:expr, $w:ident => $body:expr) => {
+        match $cog {
+            Cog::F64($w) => $body,
+            Cog::F32($w) => $body,
+            Cog::I32($w) => $body,
+        }
+    };
+}
+
 /// The COG writer of one sample type.
 enum Cog {
     F64(CogWriter<f64, ToSample<f64>>),
@@ -138,31 +149,27 @@ impl RowWriter {
             nodata: nodata.map(|v| format_nodata(v, sample)),
         };
         let size = (g.ncols, g.nrows);
+        let (avg, near) = (Resampling::Average, Resampling::Nearest);
         let cog = match sample {
-            SampleType::F64 => CogWriter::new(
+            SampleType::F64 => cog(path, size, tags, avg, nd, f64::is_finite, |v| v).map(Cog::F64),
+            SampleType::F32 => cog(
                 path,
                 size,
                 tags,
-                Resampling::Average,
-                Box::new(move |v| cell_sample(v, nd, f64::is_finite, |v| v)) as ToSample<f64>,
-            )
-            .map(Cog::F64),
-            SampleType::F32 => CogWriter::new(
-                path,
-                size,
-                tags,
-                Resampling::Average,
-                Box::new(move |v| cell_sample(v, nd, |v| (v as f32).is_finite(), |v| v as f32))
-                    as ToSample<f32>,
+                avg,
+                nd,
+                |v| (v as f32).is_finite(),
+                |v| v as f32,
             )
             .map(Cog::F32),
-            SampleType::I32 => CogWriter::new(
+            SampleType::I32 => cog(
                 path,
                 size,
                 tags,
-                Resampling::Nearest,
-                Box::new(move |v| cell_sample(v, nd, |v| fits_i32(v.round()), |v| v.round() as i32))
-                    as ToSample<i32>,
+                near,
+                nd,
+                |v| fits_i32(v.round()),
+                |v| v.round() as i32,
             )
             .map(Cog::I32),
         }
@@ -181,11 +188,7 @@ impl RowWriter {
     /// Compresses the tiles of each band on the current rayon pool (the caller's
     /// `ThreadPool::install`, else the global pool): the same bytes, sooner.
     pub fn parallel(&mut self) {
-        match &mut self.cog {
-            Cog::F64(w) => w.parallel = true,
-            Cog::F32(w) => w.parallel = true,
-            Cog::I32(w) => w.parallel = true,
-        }
+        on_cog!(&mut self.cog, w => w.parallel = true);
     }
 
     /// Adds the next row: one cell per column, `None` for nodata.
@@ -218,11 +221,7 @@ impl RowWriter {
             )));
         }
         self.any_nodata |= cells.iter().any(Option::is_none);
-        let pushed = match &mut self.cog {
-            Cog::F64(w) => w.push(cells),
-            Cog::F32(w) => w.push(cells),
-            Cog::I32(w) => w.push(cells),
-        };
+        let pushed = on_cog!(&mut self.cog, w => w.push(cells));
         self.row += 1;
         pushed.map_err(|e| failure(e, &self.path, g, self.sample))
     }
@@ -243,13 +242,23 @@ impl RowWriter {
                 message: format!("no cell is nodata, but the marker {nd} was chosen beforehand"),
             });
         }
-        match self.cog {
-            Cog::F64(w) => w.finish(),
-            Cog::F32(w) => w.finish(),
-            Cog::I32(w) => w.finish(),
-        }
-        .map_err(|e| failure(e, &self.path, g, sample))
+        on_cog!(self.cog, w => w.finish()).map_err(|e| failure(e, &self.path, g, sample))
     }
+}
+
+/// A COG writer of `T` samples: a valid cell through `to` when it `fits`, a nodata cell as
+/// `to(nd)`.
+fn cog<T: tile::Sample + 'static>(
+    path: &Path,
+    size: (usize, usize),
+    tags: GeoTags,
+    rule: Resampling,
+    nd: f64,
+    fits: impl Fn(f64) -> bool + Send + 'static,
+    to: impl Fn(f64) -> T + Send + 'static,
+) -> Result<CogWriter<T, ToSample<T>>, Failure> {
+    let sample: ToSample<T> = Box::new(move |v| cell_sample(v, nd, &fits, &to));
+    CogWriter::new(path, size, tags, rule, sample)
 }
 
 /// A [`Failure`] as the error naming `path` (and the cell, for a value `sample` cannot hold).

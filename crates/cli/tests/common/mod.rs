@@ -66,6 +66,22 @@ pub fn bad_input(run: Run, needles: &[&str]) {
     }
 }
 
+/// A 200 × 200-cell `alpine-region` (5 m cells) of seed `seed`, written into `dir`: its
+/// scenario file.
+pub fn alpine_region(dir: &Path, seed: &str) -> std::path::PathBuf {
+    ok(rockfall(&[
+        "site",
+        "alpine-region",
+        "--cells",
+        "40000",
+        "--seed",
+        seed,
+        "--out",
+        s(dir),
+    ]));
+    dir.join("scenario.toml")
+}
+
 /// A JSON file, parsed.
 pub fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
