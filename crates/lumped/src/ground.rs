@@ -9,7 +9,7 @@ use crate::walk::Walk;
 use crate::{G_MS2, LumpedError, V3};
 use rockfall_raster::GridGeometry;
 use rockfall_scenario::Nets;
-use rockfall_terrain::{Lattice, Terrain};
+use rockfall_terrain::{Lattice, PatchCoefficients, Terrain};
 
 /// Height and gradient of the ground at a point.
 pub use rockfall_terrain::SurfacePoint as Surf;
@@ -158,17 +158,25 @@ impl Ground {
     /// normal field without the jumps of the patches' own gradients at their edges, so that
     /// the centre's height is continuous over breaks of slope. `None` off the surface.
     pub fn centre_z_m(&self, x_m: f64, y_m: f64, radius_m: f64) -> Option<f64> {
+        let (i, j, u, v) = self.lattice.patch_of(x_m, y_m)?;
+        let patch = self.lattice.patch(i, j)?;
+        Some(centre_z_on(
+            patch,
+            &self.corner_gradients(i, j),
+            u,
+            v,
+            radius_m,
+        ))
+    }
+
+    /// The DEM's gradient (dz/dx, dz/dy) at the four corners of patch (i, j), in the order
+    /// (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1): central differences across each node,
+    /// one-sided where a neighbour is missing (the normal field of [`Ground::centre_z_m`]).
+    pub fn corner_gradients(&self, i: i64, j: i64) -> CornerGradients {
         let lat = &self.lattice;
-        let (i, j, u, v) = lat.patch_of(x_m, y_m)?;
-        let (z00, a, b, c) = lat.patch(i, j)?;
-        let z = z00 + a * u + b * v + c * u * v;
-        // the 4 × 4 nodes around the patch: z[dj][di] at (i − 1 + di, j − 1 + dj)
-        let mut zn = [[f64::NAN; 4]; 4];
-        for (dj, row) in zn.iter_mut().enumerate() {
-            for (di, zz) in row.iter_mut().enumerate() {
-                *zz = lat.node_z(i - 1 + di as i64, j - 1 + dj as i64);
-            }
-        }
+        // the 4 × 4 nodes around the patch: z[dj][di] at (i − 1 + di, j − 1 + dj) (its four
+        // corners enter no difference)
+        let zn = lat.nodes_around(i, j);
         let inv_2h = 0.5 * lat.inv_cell_size();
         let inv_h = lat.inv_cell_size();
         // central difference across a node, one-sided where a neighbour is missing
@@ -185,11 +193,25 @@ impl Ground {
                 diff(zn[dj - 1][di], mid, zn[dj + 1][di]),
             )
         };
-        let (g00, g10, g01, g11) = (grad(1, 1), grad(2, 1), grad(1, 2), grad(2, 2));
-        let lerp = |p: f64, q: f64, t: f64| p + (q - p) * t;
-        let gx = lerp(lerp(g00.0, g10.0, u), lerp(g01.0, g11.0, u), v);
-        let gy = lerp(lerp(g00.1, g10.1, u), lerp(g01.1, g11.1, u), v);
-        Some(z + radius_m * (1.0 + gx * gx + gy * gy).sqrt())
+        [grad(1, 1), grad(2, 1), grad(1, 2), grad(2, 2)]
+    }
+
+    /// Patch (i, j) holding (x, y) and the local (u, v) in it ([`Lattice::patch_of`]).
+    #[inline]
+    pub fn patch_of(&self, x_m: f64, y_m: f64) -> Option<(i64, i64, f64, f64)> {
+        self.lattice.patch_of(x_m, y_m)
+    }
+
+    /// Coefficients of patch (i, j) ([`Lattice::patch`]).
+    #[inline]
+    pub fn patch(&self, i: i64, j: i64) -> Option<PatchCoefficients> {
+        self.lattice.patch(i, j)
+    }
+
+    /// Height and gradient at (u, v) of a patch ([`Lattice::surface_on`]).
+    #[inline]
+    pub fn surface_on(&self, patch: PatchCoefficients, u: f64, v: f64) -> Surf {
+        self.lattice.surface_on(patch, u, v)
     }
 
     /// Height of the offset surface a flight lands on at (x, y), m: the ground plus R / n_z
@@ -223,6 +245,29 @@ impl Ground {
         let n = self.geometry().ncols;
         self.geometry().cell_center(index / n, index % n)
     }
+}
+
+/// Gradients (dz/dx, dz/dy) at a patch's four corners ([`Ground::corner_gradients`]).
+pub type CornerGradients = [(f64, f64); 4];
+
+/// Height of the centre of a rock of radius `radius_m` resting at (u, v) of a patch with
+/// coefficients `patch` and corner gradients `grads` ([`Ground::centre_z_m`]), m:
+/// `z + R √(1 + |∇z|²)`, with ∇z interpolated bilinearly between the corners.
+#[inline]
+pub fn centre_z_on(
+    patch: PatchCoefficients,
+    grads: &CornerGradients,
+    u: f64,
+    v: f64,
+    radius_m: f64,
+) -> f64 {
+    let (z00, a, b, c) = patch;
+    let z = z00 + a * u + b * v + c * u * v;
+    let [g00, g10, g01, g11] = *grads;
+    let lerp = |p: f64, q: f64, t: f64| p + (q - p) * t;
+    let gx = lerp(lerp(g00.0, g10.0, u), lerp(g01.0, g11.0, u), v);
+    let gy = lerp(lerp(g00.1, g10.1, u), lerp(g01.1, g11.1, u), v);
+    z + radius_m * (1.0 + gx * gx + gy * gy).sqrt()
 }
 
 /// The eight neighbour offsets (columns east, rows north).

@@ -277,7 +277,14 @@ pub fn limit_heading(v: V3, w: V3, incoming: Option<(f64, f64)>, max_dev_rad: f6
     let Some((ix, iy)) = incoming else {
         return (v, w);
     };
-    if v.horizontal_norm() < 1e-12 {
+    let h = v.horizontal_norm();
+    if h < 1e-12 {
+        return (v, w);
+    }
+    // clearly within the limit (the cosine of the angle between the headings above the
+    // limit's by far more than the rounding of either side): unchanged, as the angles below
+    // would find, without their two arc tangents
+    if (v.x * ix + v.y * iy) / h > max_dev_rad.cos() + 1e-9 {
         return (v, w);
     }
     let dev = wrap(v.y.atan2(v.x) - iy.atan2(ix));
@@ -488,6 +495,45 @@ mod tests {
         // rolling without slip: contact point at rest, v + w × (−R n) = 0
         let slip = v + w.cross(n * -0.5);
         assert!(slip.length() < 1e-12);
+    }
+
+    #[test]
+    fn heading_limit_shortcut_changes_no_result() {
+        // the limit as it was before the shortcut: the angles always
+        let by_angles = |v: V3, w: V3, (ix, iy): (f64, f64), max: f64| {
+            let dev = wrap(v.y.atan2(v.x) - iy.atan2(ix));
+            if dev.abs() <= max {
+                return (v, w);
+            }
+            let turn = dev.clamp(-max, max) - dev;
+            (rotate_horizontal(v, turn), rotate_horizontal(w, turn))
+        };
+        let mut rng = rockfall_rng::stream(5, rockfall_rng::Purpose::Sampling, &[]);
+        let mut near = 0;
+        for k in 0..200_000 {
+            let max = [45f64, 10.0, 90.0, 179.0][k % 4].to_radians();
+            let a: f64 = (rng.random::<f64>() - 0.5) * 6.3;
+            // half the headings within 10⁻⁷ rad of the limit, on either side
+            let d = match k % 2 {
+                0 => (rng.random::<f64>() - 0.5) * 6.3,
+                _ => (max + (rng.random::<f64>() - 0.5) * 2e-7) * [1.0, -1.0][k % 4 / 2],
+            };
+            let speed = 0.1 + 30.0 * rng.random::<f64>();
+            let v = V3::new((a + d).cos() * speed, (a + d).sin() * speed, -1.0);
+            let w = V3::new(1.0, -2.0, 0.5);
+            let incoming = a.sin_cos();
+            let incoming = (incoming.1, incoming.0);
+            let (got, want) = (
+                limit_heading(v, w, Some(incoming), max),
+                by_angles(v, w, incoming, max),
+            );
+            near += usize::from(k % 2 == 1 && got.0 != v);
+            assert_eq!(got, want, "heading {a} deviation {d} limit {max}");
+        }
+        assert!(
+            near > 10_000,
+            "{near} headings beyond the limit by less than 10⁻⁷ rad"
+        );
     }
 
     #[test]

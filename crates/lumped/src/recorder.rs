@@ -66,7 +66,7 @@ impl Rock<'_, '_, '_> {
                 self.net_entry(seg, piece.s_a, c.net_id, new_passage);
                 if new_passage {
                     let q = seg.pos(piece.s_a);
-                    let zg = ground.height_m(q.x, q.y).unwrap_or(f64::NEG_INFINITY);
+                    let zg = (self.memo.height_m(ground, q.x, q.y)).unwrap_or(f64::NEG_INFINITY);
                     if q.z - zg < c.net_height_m {
                         self.sample(seg, piece.s_a);
                         return Some((piece.s_a, Cut::Net(cell)));
@@ -96,9 +96,9 @@ impl Rock<'_, '_, '_> {
 
     /// The rock as a screen sees it at `tau` of `seg`: speed, kinetic energy, height of its
     /// centre above the ground and plan position.
-    fn crossing_at(&self, seg: &Seg, tau: f64) -> ScreenCrossing {
+    fn crossing_at(&mut self, seg: &Seg, tau: f64) -> ScreenCrossing {
         let (q, u) = (seg.pos(tau), seg.vel(tau));
-        let zg = self.world.ground.height_m(q.x, q.y).unwrap_or(q.z);
+        let zg = (self.memo.height_m(self.world.ground, q.x, q.y)).unwrap_or(q.z);
         ScreenCrossing {
             velocity_ms: u.length(),
             energy_j: self.energy_j(u),
@@ -112,7 +112,7 @@ impl Rock<'_, '_, '_> {
     fn sample(&mut self, seg: &Seg, tau: f64) {
         let q = seg.pos(tau);
         let u = seg.vel(tau);
-        let Some(zg) = self.world.ground.height_m(q.x, q.y) else {
+        let Some(zg) = self.memo.height_m(self.world.ground, q.x, q.y) else {
             return;
         };
         let h = q.z - zg;

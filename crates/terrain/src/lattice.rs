@@ -32,6 +32,10 @@ pub struct Lattice {
     /// True when the grid holds every cell (not a tile's window of a region): indices are
     /// storage slots.
     whole: bool,
+    /// Extent of the patch lattice in cells, (ncols − 1, nrows − 1) as f64.
+    patch_span: [f64; 2],
+    /// Column and row of the last patch, (ncols − 2, nrows − 2).
+    last_patch: [i64; 2],
 }
 
 impl Lattice {
@@ -48,6 +52,8 @@ impl Lattice {
             grid: Arc::clone(dem.shared_grid()),
             all_valid: dem.grid().nodata_count() == 0,
             whole: dem.grid().is_whole(),
+            patch_span: [(geometry.ncols - 1) as f64, (geometry.nrows - 1) as f64],
+            last_patch: [geometry.ncols as i64 - 2, geometry.nrows as i64 - 2],
         }
     }
 
@@ -139,6 +145,30 @@ impl Lattice {
         self.z(self.north_index(i as usize, j as usize))
     }
 
+    /// Heights of the 4 × 4 lattice nodes around patch (i, j): `z[dj][di]` at node
+    /// (i − 1 + di, j − 1 + dj), m, as [`Lattice::node_z`] gives them (NaN for nodata or
+    /// outside the grid). Read straight from the grid's rows when they are all inside a whole
+    /// grid without nodata.
+    #[inline]
+    pub fn nodes_around(&self, i: i64, j: i64) -> [[f64; 4]; 4] {
+        let (n, m) = (self.geometry.ncols as i64, self.geometry.nrows as i64);
+        let mut z = [[f64::NAN; 4]; 4];
+        if self.whole && self.all_valid && i >= 1 && j >= 1 && i + 2 < n && j + 2 < m {
+            let values = self.grid.values();
+            for (dj, row) in z.iter_mut().enumerate() {
+                let start = self.north_index(i as usize - 1, (j - 1) as usize + dj);
+                row.copy_from_slice(&values[start..start + 4]);
+            }
+            return z;
+        }
+        for (dj, row) in z.iter_mut().enumerate() {
+            for (di, zz) in row.iter_mut().enumerate() {
+                *zz = self.node_z(i - 1 + di as i64, j - 1 + dj as i64);
+            }
+        }
+        z
+    }
+
     /// Row-major index of the valid cell containing (x, y).
     #[inline]
     pub fn cell_index(&self, x_m: f64, y_m: f64) -> Option<usize> {
@@ -196,17 +226,14 @@ impl Lattice {
     pub fn patch_of(&self, x_m: f64, y_m: f64) -> Option<(i64, i64, f64, f64)> {
         let u = (x_m - self.x0) * self.inv_h;
         let v = (y_m - self.y0) * self.inv_h;
-        let (mu, mv) = (
-            (self.geometry.ncols - 1) as f64,
-            (self.geometry.nrows - 1) as f64,
-        );
+        let [mu, mv] = self.patch_span;
         const TOL: f64 = 1e-6;
         if !(u >= -TOL && v >= -TOL && u <= mu + TOL && v <= mv + TOL) {
             return None;
         }
         // non-negative: truncation is the floor (and cheaper than a call to floor)
-        let i = (u.max(0.0) as i64).min(mu as i64 - 1);
-        let j = (v.max(0.0) as i64).min(mv as i64 - 1);
+        let i = (u.max(0.0) as i64).min(self.last_patch[0]);
+        let j = (v.max(0.0) as i64).min(self.last_patch[1]);
         Some((i, j, u - i as f64, v - j as f64))
     }
 
@@ -214,12 +241,19 @@ impl Lattice {
     #[inline]
     pub fn surface(&self, x_m: f64, y_m: f64) -> Option<SurfacePoint> {
         let (i, j, u, v) = self.patch_of(x_m, y_m)?;
-        let (z00, a, b, c) = self.patch(i, j)?;
-        Some(SurfacePoint {
+        Some(self.surface_on(self.patch(i, j)?, u, v))
+    }
+
+    /// Height and gradient at local (u, v) of the patch with coefficients `patch` (from
+    /// [`Lattice::patch`]; (u, v) from [`Lattice::patch_of`]).
+    #[inline]
+    pub fn surface_on(&self, patch: PatchCoefficients, u: f64, v: f64) -> SurfacePoint {
+        let (z00, a, b, c) = patch;
+        SurfacePoint {
             z_m: z00 + a * u + b * v + c * u * v,
             dzdx: (a + c * v) * self.inv_h,
             dzdy: (b + c * u) * self.inv_h,
-        })
+        }
     }
 
     /// Ground height at (x, y), m; `None` off the surface.
@@ -233,6 +267,45 @@ impl Lattice {
 mod tests {
     use super::*;
     use rockfall_raster::Grid;
+
+    /// `nodes_around` equals `node_z` node by node, bit for bit, on every patch and beyond.
+    fn assert_nodes_around_are_node_z(lat: &Lattice) {
+        let (n, m) = (lat.geometry().ncols as i64, lat.geometry().nrows as i64);
+        for j in -2..m + 2 {
+            for i in -2..n + 2 {
+                let z = lat.nodes_around(i, j);
+                for (dj, row) in z.iter().enumerate() {
+                    for (di, &zz) in row.iter().enumerate() {
+                        let want = lat.node_z(i - 1 + di as i64, j - 1 + dj as i64);
+                        assert_eq!(
+                            zz.to_bits(),
+                            want.to_bits(),
+                            "patch ({i}, {j}) node {di},{dj}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn nodes_around_a_patch_are_read_in_place_on_a_grid_without_nodata() {
+        let g = GridGeometry {
+            ncols: 6,
+            nrows: 5,
+            x_min_m: 0.0,
+            y_min_m: 0.0,
+            cell_size_m: 1.0,
+        };
+        let grid = Grid::from_fn(g, |r, c| Some((r * 10 + c) as f64 * 0.5 + (c * c) as f64));
+        let lat = Lattice::new(&Dem::new(grid).unwrap());
+        assert_nodes_around_are_node_z(&lat);
+        // node (i, j) = (2, 1): row 3 from the north, column 2
+        assert_eq!(
+            lat.nodes_around(2, 1)[1][1],
+            (3 * 10 + 2) as f64 * 0.5 + 4.0
+        );
+    }
 
     #[test]
     fn lattice_matches_the_dem_everywhere() {
@@ -264,6 +337,7 @@ mod tests {
             }
         }
         assert!(lat.node_z(3, 2).is_nan(), "row 1 from the north is j = 2");
+        assert_nodes_around_are_node_z(&lat);
         assert!(!lat.is_valid(8) && lat.is_valid(9) && !lat.is_valid(20));
         assert_eq!(lat.cell_index(100.5, 207.9), Some(0));
         assert_eq!(lat.cell_index(106.5, 205.9), None, "the nodata cell");
