@@ -37,8 +37,11 @@
 //! and passing-height histograms packed (3 bytes per visit for a cell visited a few times,
 //! else the window of bins it uses at 1–4 bytes a count), its source cells as runs of
 //! neighbours (8 bytes a run) and, where rocks stopped, hit trees or passed above an energy
-//! threshold, 80 bytes more: 0.35 kB per reached cell on vaujany-site2 and 0.49 kB on a
-//! 10⁷-cell `alpine-region` (many cells visited a few times), whatever the number of rocks (`cell_statistics_bytes_per_reached_cell` of `summary.json`). A run's workers
+//! threshold, 80 bytes more: 0.34–0.36 kB per reached cell on vaujany-site2 with 10⁴–5·10⁴
+//! rocks and 0.49 kB on a 10⁷-cell `alpine-region` (many cells visited a few times)
+//! (`cell_statistics_bytes_per_reached_cell` of `summary.json`). The histograms grow with
+//! a cell's visits, their counts widening to 2 bytes past 255 and 4 past 65 535:
+//! vaujany-site2 holds 0.51 kB per reached cell with 2·10⁵ rocks, 0.52 kB with 10⁶. A run's workers
 //! move their cells into one shared table every 65 536 cells ([`Tally::flush_cells`]), so
 //! the threads do not multiply it. Per-screen and per-rock statistics are a few
 //! kB in all; the speed profile ([`Results::speed_profile`]) 4 kB per distance bin of one
