@@ -411,3 +411,40 @@ fn the_point_memo_answers_as_the_ground() {
     }
     assert!(memo.surface(&g, -5.0, 1.0).is_none());
 }
+
+/// The memo's last patch (coefficients, corner gradients) gives the ground's answers bit for
+/// bit along a walk that revisits patches, crosses a nodata hole (one-sided differences,
+/// patches off the surface) and leaves the grid.
+#[test]
+fn the_patch_memo_answers_as_the_ground() {
+    use rockfall_lumped::memo::PointMemo;
+    let geometry = common::geometry(7, 6, 2.0, (0.0, 0.0));
+    let dem = rockfall_raster::Grid::from_fn(geometry, |r, c| {
+        ((r, c) != (2, 4)).then(|| (r * r) as f64 * 0.9 + (c * 7 % 5) as f64 * 0.6 - c as f64)
+    });
+    let surface = SurfaceMap::uniform(SoilType::new(4).unwrap(), 0.1, 0.1, 0.1);
+    let terrain = Terrain::new(Dem::new(dem).unwrap(), surface).unwrap();
+    let ground = ground(&terrain);
+    let mut memo = PointMemo::default();
+    // a walk that revisits patches and points, crosses the nodata hole and leaves the grid
+    let mut seen = 0;
+    for k in 0..2_000u64 {
+        let s = (k * 7_919 % 1_009) as f64 / 1_009.0;
+        let (x, y) = (-1.0 + 16.0 * s, 13.0 * ((k * 31 % 97) as f64 / 97.0));
+        let (x, y) = if k % 3 == 0 { (x.floor(), y) } else { (x, y) };
+        let r = if k % 5 == 0 { 0.3 } else { 0.5 };
+        match k % 3 {
+            0 => assert_eq!(memo.surface(&ground, x, y), ground.surface(x, y)),
+            1 => assert_eq!(
+                memo.centre_z_m(&ground, x, y, r).map(f64::to_bits),
+                ground.centre_z_m(x, y, r).map(f64::to_bits)
+            ),
+            _ => assert_eq!(
+                memo.height_m(&ground, x, y).map(f64::to_bits),
+                ground.height_m(x, y).map(f64::to_bits)
+            ),
+        }
+        seen += usize::from(ground.surface(x, y).is_some());
+    }
+    assert!(seen > 500 && seen < 2_000, "{seen}");
+}

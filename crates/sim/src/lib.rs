@@ -24,6 +24,7 @@
 
 mod batches;
 pub mod converge;
+mod error;
 mod fingerprint;
 mod observe;
 pub mod parameters;
@@ -36,100 +37,22 @@ pub mod tile;
 pub use batches::{
     BatchState, CHECKPOINTS, FIRST_BATCH, Finished, batch_rocks, convergence_summary, per_release,
 };
+pub use error::SimError;
+use error::source_of;
 pub use observe::{Observer, Quiet};
 pub use rock::RigidRock;
 pub use share::{MergeError, Merged, Partition, RunRecord};
 
-use rockfall_engine::{Engine, Plan, PoolError};
+use rockfall_engine::{Engine, Plan};
 use rockfall_forest::Forest;
 use rockfall_lumped::LumpedModel;
 use rockfall_results::{Layout, Parameters, Results, RunInfo, Tally};
 use rockfall_rigid::RigidModel;
-use rockfall_scenario::{Engine as EngineKind, Scenario, ScenarioError};
-use std::path::PathBuf;
+use rockfall_scenario::{Engine as EngineKind, Scenario};
 use std::sync::Arc;
 use std::time::Instant;
 
 pub use rockfall_engine::{Releases, RockSet, RunOptions};
-
-/// What can stop a simulation. Each input error names the file its parameter came from,
-/// when the scenario was read from files ([`SimError::file`]).
-#[derive(Debug, thiserror::Error)]
-pub enum SimError {
-    /// The scenario, once overridden, is not valid.
-    #[error("{}{source}", at(file))]
-    Scenario {
-        /// The file of the parameter at fault.
-        file: Option<PathBuf>,
-        /// What is wrong.
-        source: ScenarioError,
-    },
-    /// The forest cannot be built from the scenario (a stand map or tree list).
-    #[error("{}{source}", at(file))]
-    Forest {
-        /// The stand map or tree list.
-        file: Option<PathBuf>,
-        /// What is wrong.
-        source: ScenarioError,
-    },
-    /// The engine cannot start: a release off the terrain, no rock at a source cell, an
-    /// unusable rock shape.
-    #[error("{}{message}", at(file))]
-    Engine {
-        /// The file of the parameter most likely at fault.
-        file: Option<PathBuf>,
-        /// What is wrong.
-        message: String,
-    },
-    /// The worker pool cannot start.
-    #[error(transparent)]
-    Pool(#[from] PoolError),
-    /// The run so far could not be saved after a batch (the message names the file).
-    #[error("cannot save the run so far: {0}")]
-    Checkpoint(String),
-    /// The caller stopped the run ([`Observer::cancel_flag`]); nothing of it is kept.
-    #[error("the run was interrupted")]
-    Cancelled,
-}
-
-fn at(file: &Option<PathBuf>) -> String {
-    file.as_ref()
-        .map_or(String::new(), |p| format!("{}: ", p.display()))
-}
-
-impl SimError {
-    /// True when the error is the input's fault (exit 2), false for an internal failure.
-    pub fn is_bad_input(&self) -> bool {
-        !matches!(
-            self,
-            SimError::Pool(_) | SimError::Checkpoint(_) | SimError::Cancelled
-        )
-    }
-
-    /// The input file named by the error, if any.
-    pub fn file(&self) -> Option<&std::path::Path> {
-        match self {
-            SimError::Scenario { file, .. }
-            | SimError::Forest { file, .. }
-            | SimError::Engine { file, .. } => file.as_deref(),
-            SimError::Pool(_) | SimError::Checkpoint(_) | SimError::Cancelled => None,
-        }
-    }
-
-    fn engine(scenario: &Scenario, e: &dyn std::fmt::Display, keys: &[&str]) -> SimError {
-        SimError::Engine {
-            file: source_of(scenario, keys),
-            message: e.to_string(),
-        }
-    }
-}
-
-/// The file the first of `keys` with one came from.
-fn source_of(scenario: &Scenario, keys: &[&str]) -> Option<PathBuf> {
-    keys.iter()
-        .find_map(|k| scenario.source_of(k))
-        .map(Into::into)
-}
 
 /// What a caller may override in a scenario, applied before anything random happens.
 #[derive(Debug, Clone, Default, PartialEq)]
