@@ -33,15 +33,17 @@
 //!
 //! Per tally: 1 KiB per block of 16 × 16 cells something happened in (and ≈ 0.016 byte per
 //! grid cell for the directory of blocks), plus for every cell something happened in 176 bytes
-//! of counters, sums and maxima (in pages of 4 096, never moved) and on the heap its energy
-//! and passing-height histograms packed (3 bytes per visit for a cell visited a few times,
-//! else the window of bins it uses at 1–4 bytes a count), its source cells as runs of
+//! of counters, sums and maxima (in pages of 4 096, never moved once full, the last growing by
+//! doubling) and on the heap its energy and passing-height histograms packed (3 bytes per
+//! visit for a cell visited a few times, else one byte per bin of the window it uses and
+//! more only for the bins counting past 255), its source cells as runs of
 //! neighbours (8 bytes a run) and, where rocks stopped, hit trees or passed above an energy
 //! threshold, 80 bytes more: 0.34–0.36 kB per reached cell on vaujany-site2 with 10⁴–5·10⁴
 //! rocks and 0.49 kB on a 10⁷-cell `alpine-region` (many cells visited a few times)
-//! (`cell_statistics_bytes_per_reached_cell` of `summary.json`). The histograms grow with
-//! a cell's visits, their counts widening to 2 bytes past 255 and 4 past 65 535:
-//! vaujany-site2 holds 0.51 kB per reached cell with 2·10⁵ rocks, 0.52 kB with 10⁶. A run's workers
+//! (`cell_statistics_bytes_per_reached_cell` of `summary.json`). The histograms grow little
+//! with a cell's visits: vaujany-site2 holds 0.36 kB per reached cell with 2·10⁵ rocks,
+//! 0.38 kB with 10⁶ (0.51 and 0.52 kB when every count of a window took the width of the
+//! largest, up to 4 bytes). A run's workers
 //! move their cells into one shared table every 65 536 cells ([`Tally::flush_cells`]), so
 //! the threads do not multiply it. Per-screen and per-rock statistics are a few
 //! kB in all; the speed profile ([`Results::speed_profile`]) 4 kB per distance bin of one

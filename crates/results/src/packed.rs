@@ -4,18 +4,24 @@
 //! - **list**: one 3-byte entry per visit (energy bin as `u16`, height bin as `u8`), for cells
 //!   visited a few times: most cells of a regional run. A list grows by half its length when
 //!   full, so that a visit seldom reallocates;
-//! - **windows**: each histogram kept only over the window of bins it has counts in, every
-//!   count in the narrowest of 1, 2 or 4 bytes that holds the largest.
+//! - **planes**: each histogram kept only over the window of bins it has counts in, its counts
+//!   split into byte planes: the low byte of every count of the window (plane 0), the second
+//!   byte over the narrower window of the bins counting more than 255 (plane 1), the high two
+//!   bytes over the window of those counting more than 65 535 (plane 2). A histogram of a
+//!   dense cell is roughly unimodal, so its large counts sit in a few neighbouring bins: one
+//!   byte per bin of the window, plus one for the bins above 255 and two more for the few
+//!   above 65 535 (holding every count at the width of the largest took up to four bytes per
+//!   bin, 0.51–0.52 kB per reached cell on vaujany-site2 past 2·10⁵ rocks).
 //!
-//! Layout of the block: byte 0 is the form (`LIST`, or the width's power of two: 0, 1 or 2
-//! for 1, 2 or 4 bytes). A list follows with its length (`u8`) and its entries (and room for
-//! more); windows with a header
-//! `[energy lo, energy bins, height lo, height bins]` (four little-endian `u16`), then the
-//! energy window's counts, then the height window's, little-endian. Counts saturate at
-//! `u32::MAX` as the unpacked `[u32; N]` histograms they replace did (saturating sums of
-//! non-negative counts are `min(sum, u32::MAX)` in any order, so merging stays exact and
-//! order-independent). Both forms hold the same counts: which one a cell is in changes no
-//! result.
+//! Layout of the block: byte 0 is the form (`LIST`, or the number of planes less one: 0, 1 or
+//! 2). A list follows with its length (`u8`) and its entries (and room for more); planes with
+//! a header of `[energy lo, energy bins, height lo, height bins]` (four little-endian `u16`)
+//! per plane, then per plane the energy window's bytes and the height window's, little-endian
+//! (plane 2 two bytes a bin). A count is the sum of its planes' parts (a plane whose window
+//! leaves the bin out adds 0). Counts saturate at `u32::MAX` as the unpacked `[u32; N]`
+//! histograms they replace did (saturating sums of non-negative counts are
+//! `min(sum, u32::MAX)` in any order, so merging stays exact and order-independent). Both
+//! forms hold the same counts: which one a cell is in changes no result.
 
 use crate::hist::{ENERGY_BINS, LogAxis, SHORT_BINS};
 
@@ -27,8 +33,14 @@ const ENTRY: usize = 3;
 const LIST_HEAD: usize = 2;
 /// Most entries of a list (its length is a `u8`).
 const LIST_MAX: usize = u8::MAX as usize;
-/// Bytes before the counts of the windows form.
-const HEADER: usize = 9;
+/// Most planes.
+const PLANES: usize = 3;
+/// Bits below each plane's part of a count.
+const PLANE_SHIFT: [u32; PLANES] = [0, 8, 16];
+/// Bytes per bin of each plane.
+const PLANE_WIDTH: [usize; PLANES] = [1, 1, 2];
+/// Header bytes of each plane: its two windows, four `u16`.
+const PLANE_HEAD: usize = 8;
 
 /// Bins of one window: its first bin and its number of bins.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -40,8 +52,9 @@ struct Span {
 impl Span {
     const EMPTY: Span = Span { lo: 0, n: 0 };
 
+    #[inline]
     fn contains(&self, bin: usize) -> bool {
-        bin >= self.lo && bin < self.lo + self.n
+        bin.wrapping_sub(self.lo) < self.n
     }
 
     /// The smallest span holding both (an empty span is absorbed).
@@ -59,17 +72,6 @@ impl Span {
 
     fn of_bin(bin: usize) -> Span {
         Span { lo: bin, n: 1 }
-    }
-}
-
-/// Power of two of the narrowest width (bytes) holding `c`.
-fn shift_for(c: u32) -> u8 {
-    if c <= u32::from(u8::MAX) {
-        0
-    } else if c <= u32::from(u16::MAX) {
-        1
-    } else {
-        2
     }
 }
 
@@ -97,6 +99,70 @@ impl Dense {
     fn add_height(&mut self, bin: usize, c: u32) {
         let slot = &mut self.counts[self.e.n + bin - self.h.lo];
         *slot = slot.saturating_add(c);
+    }
+
+    /// The counts of histogram `hist` (0: energy, 1: height) with their window.
+    fn hist(&self, hist: usize) -> (Span, &[u32]) {
+        if hist == 0 {
+            (self.e, &self.counts[..self.e.n])
+        } else {
+            (self.h, &self.counts[self.e.n..])
+        }
+    }
+
+    /// The planes that hold these counts.
+    fn layout(&self) -> Layout {
+        // each plane's window: the bins whose counts reach past its shift
+        let span = |hist: usize, shift: u32| {
+            let (window, counts) = self.hist(hist);
+            let big = |c: &u32| c >> shift != 0;
+            match (counts.iter().position(big), counts.iter().rposition(big)) {
+                _ if shift == 0 => window,
+                (Some(first), Some(last)) => Span {
+                    lo: window.lo + first,
+                    n: last + 1 - first,
+                },
+                _ => Span::EMPTY,
+            }
+        };
+        let spans = PLANE_SHIFT.map(|shift| [span(0, shift), span(1, shift)]);
+        let planes = 1
+            + (1..PLANES)
+                .rev()
+                .find(|&p| spans[p].iter().any(|s| s.n > 0))
+                .unwrap_or(0);
+        Layout::new(planes, spans)
+    }
+}
+
+/// Where the planes of a block in planes form lie.
+#[derive(Debug, Clone, Copy)]
+struct Layout {
+    planes: usize,
+    /// `spans[plane][hist]` (hist 0: energy, 1: height); empty past `planes`.
+    spans: [[Span; 2]; PLANES],
+    /// Byte offset in the block of `spans[plane][hist]`'s first bin.
+    at: [[usize; 2]; PLANES],
+    /// Bytes of the block.
+    len: usize,
+}
+
+impl Layout {
+    fn new(planes: usize, spans: [[Span; 2]; PLANES]) -> Layout {
+        let mut at = [[0; 2]; PLANES];
+        let mut len = 1 + PLANE_HEAD * planes;
+        for plane in 0..planes {
+            for hist in 0..2 {
+                at[plane][hist] = len;
+                len += spans[plane][hist].n * PLANE_WIDTH[plane];
+            }
+        }
+        Layout {
+            planes,
+            spans,
+            at,
+            len,
+        }
     }
 }
 
@@ -131,8 +197,7 @@ impl PackedHists {
         }
         let d = self.dense();
         let visits: usize = d.counts[..d.e.n].iter().map(|&c| c as usize).sum();
-        let max = d.counts.iter().copied().max().unwrap_or(0);
-        (LIST_HEAD + ENTRY * visits).min(HEADER + (d.counts.len() << shift_for(max)))
+        (LIST_HEAD + ENTRY * visits).min(d.layout().len)
     }
 
     fn is_list(&self) -> bool {
@@ -168,60 +233,96 @@ impl PackedHists {
         })
     }
 
-    /// (energy window, height window, width shift) of the windows form; `None` otherwise.
-    fn windows(&self) -> Option<(Span, Span, u8)> {
-        (!self.is_empty() && !self.is_list()).then(|| {
-            let e = Span {
-                lo: self.u16_at(1),
-                n: self.u16_at(3),
-            };
-            let h = Span {
-                lo: self.u16_at(5),
-                n: self.u16_at(7),
-            };
-            (e, h, self.data[0])
-        })
+    /// The planes of the planes form; `None` for the other forms.
+    #[inline]
+    fn layout(&self) -> Option<Layout> {
+        if self.is_empty() || self.is_list() {
+            return None;
+        }
+        let planes = usize::from(self.data[0]) + 1;
+        let mut spans = [[Span::EMPTY; 2]; PLANES];
+        for (plane, pair) in spans.iter_mut().enumerate().take(planes) {
+            for (hist, span) in pair.iter_mut().enumerate() {
+                let at = 1 + PLANE_HEAD * plane + 4 * hist;
+                *span = Span {
+                    lo: self.u16_at(at),
+                    n: self.u16_at(at + 2),
+                };
+            }
+        }
+        Some(Layout::new(planes, spans))
     }
 
     /// The windows that hold every counted bin (of either form).
     fn spans(&self) -> (Span, Span) {
-        if let Some((e, h, _)) = self.windows() {
-            return (e, h);
+        if let Some(l) = self.layout() {
+            return (l.spans[0][0], l.spans[0][1]);
         }
         (self.entries()).fold((Span::EMPTY, Span::EMPTY), |(e, h), (be, bh)| {
             (e.union(Span::of_bin(be)), h.union(Span::of_bin(bh)))
         })
     }
 
-    /// Count at slot `k` of the counts (energy window first) at width `shift`.
+    /// Count of `bin` of histogram `hist` (inside the window of plane 0).
     #[inline]
-    fn get(&self, shift: u8, k: usize) -> u32 {
-        let d = &self.data[HEADER..];
-        match shift {
-            0 => u32::from(d[k]),
-            1 => u32::from(u16::from_le_bytes([d[2 * k], d[2 * k + 1]])),
-            _ => u32::from_le_bytes([d[4 * k], d[4 * k + 1], d[4 * k + 2], d[4 * k + 3]]),
+    fn get(&self, l: &Layout, hist: usize, bin: usize) -> u32 {
+        let mut c = 0;
+        for plane in 0..l.planes {
+            let span = l.spans[plane][hist];
+            if span.contains(bin) {
+                let at = l.at[plane][hist] + (bin - span.lo) * PLANE_WIDTH[plane];
+                let part = if PLANE_WIDTH[plane] == 1 {
+                    u32::from(self.data[at])
+                } else {
+                    u32::from(u16::from_le_bytes([self.data[at], self.data[at + 1]]))
+                };
+                c |= part << PLANE_SHIFT[plane];
+            }
+        }
+        c
+    }
+
+    /// True when the planes can hold count `c` at `bin` of histogram `hist`.
+    #[inline]
+    fn fits(l: &Layout, hist: usize, bin: usize, c: u32) -> bool {
+        (1..PLANES).all(|p| c >> PLANE_SHIFT[p] == 0 || l.spans[p][hist].contains(bin))
+    }
+
+    /// Sets the count of `bin` of histogram `hist` to `c` (which [`PackedHists::fits`]).
+    #[inline]
+    fn set(&mut self, l: &Layout, hist: usize, bin: usize, c: u32) {
+        for plane in 0..l.planes {
+            let span = l.spans[plane][hist];
+            if span.contains(bin) {
+                let at = l.at[plane][hist] + (bin - span.lo) * PLANE_WIDTH[plane];
+                let part = c >> PLANE_SHIFT[plane];
+                if PLANE_WIDTH[plane] == 1 {
+                    self.data[at] = part as u8;
+                } else {
+                    self.data[at..at + 2].copy_from_slice(&(part as u16).to_le_bytes());
+                }
+            }
         }
     }
 
-    #[inline]
-    fn set(&mut self, shift: u8, k: usize, c: u32) {
-        let d = &mut self.data[HEADER..];
-        match shift {
-            0 => d[k] = c as u8,
-            1 => d[2 * k..2 * k + 2].copy_from_slice(&(c as u16).to_le_bytes()),
-            _ => d[4 * k..4 * k + 4].copy_from_slice(&c.to_le_bytes()),
-        }
+    /// `(bin, count)` of histogram `hist`'s window in the planes form.
+    fn bins_of<'a>(
+        &'a self,
+        l: &'a Layout,
+        hist: usize,
+    ) -> impl Iterator<Item = (usize, u32)> + Clone + 'a {
+        let w = l.spans[0][hist];
+        (w.lo..w.lo + w.n).map(move |b| (b, self.get(l, hist, b)))
     }
 
     /// Adds every count of this block to `d` (whose windows hold them).
     fn add_to(&self, d: &mut Dense) {
-        if let Some((e, h, shift)) = self.windows() {
-            for k in 0..e.n {
-                d.add_energy(e.lo + k, self.get(shift, k));
+        if let Some(l) = self.layout() {
+            for (b, c) in self.bins_of(&l, 0) {
+                d.add_energy(b, c);
             }
-            for k in 0..h.n {
-                d.add_height(h.lo + k, self.get(shift, e.n + k));
+            for (b, c) in self.bins_of(&l, 1) {
+                d.add_height(b, c);
             }
         } else {
             for (be, bh) in self.entries() {
@@ -263,7 +364,7 @@ impl PackedHists {
 
     /// The `p`-th percentile of the energy (`energy`) or passing-height histogram on `axis`,
     /// clamped to `max` ([`LogAxis::percentile_of_bins`] of the same bins as
-    /// [`PackedHists::energy`] and [`PackedHists::height`], without copying a windows form).
+    /// [`PackedHists::energy`] and [`PackedHists::height`], without copying a planes form).
     ///
     /// `visits`: the cell's visits, the sum of either histogram's counts unless a count
     /// saturated, which only a cell of `u32::MAX` visits or more can have.
@@ -275,61 +376,38 @@ impl PackedHists {
         p: f64,
         max: f64,
     ) -> Option<f64> {
-        let pick = |e: Span, h: Span| if energy { (e, 0) } else { (h, e.n) };
-        if let Some((e, h, shift)) = self.windows() {
-            let (span, off) = pick(e, h);
-            let counts = &self.data[HEADER + (off << shift)..HEADER + ((off + span.n) << shift)];
-            let bins = |c: &mut dyn Iterator<Item = u32>| {
-                let bins = c.enumerate().map(|(k, c)| (span.lo + k, c));
-                if visits < u64::from(u32::MAX) {
-                    axis.percentile_of_counted(bins, visits, p, max)
-                } else {
-                    let bins: Vec<(usize, u32)> = bins.collect();
-                    axis.percentile_of_bins(bins.into_iter(), p, max)
-                }
-            };
-            return match shift {
-                0 => bins(&mut counts.iter().map(|&c| u32::from(c))),
-                1 => bins(
-                    &mut (counts.chunks_exact(2))
-                        .map(|c| u32::from(u16::from_le_bytes([c[0], c[1]]))),
-                ),
-                _ => bins(
-                    &mut (counts.chunks_exact(4))
-                        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])),
-                ),
+        let hist = usize::from(!energy);
+        if let Some(l) = self.layout() {
+            let bins = self.bins_of(&l, hist);
+            return if visits < u64::from(u32::MAX) {
+                axis.percentile_of_counted(bins, visits, p, max)
+            } else {
+                axis.percentile_of_bins(bins, p, max)
             };
         }
         // a list (a few visits) or nothing
         let d = self.dense();
-        let (span, off) = pick(d.e, d.h);
-        let bins = (0..span.n).map(|k| (span.lo + k, d.counts[off + k]));
+        let (span, counts) = d.hist(hist);
+        let bins = (counts.iter().enumerate()).map(|(k, &c)| (span.lo + k, c));
         axis.percentile_of_bins(bins, p, max)
     }
 
     /// One visit: energy bin `e_bin`, passing-height bin `h_bin`.
     #[inline]
     pub(crate) fn add(&mut self, e_bin: usize, h_bin: usize) {
-        if let Some((e, h, shift)) = self.windows()
-            && e.contains(e_bin)
-            && h.contains(h_bin)
+        if self.add_low(e_bin, h_bin) {
+            return;
+        }
+        if let Some(l) = self.layout()
+            && l.spans[0][0].contains(e_bin)
+            && l.spans[0][1].contains(h_bin)
         {
-            let (ke, kh) = (e_bin - e.lo, e.n + h_bin - h.lo);
-            let (ce, ch) = (self.get(shift, ke), self.get(shift, kh));
-            let max = if shift == 2 {
-                u32::MAX
-            } else {
-                (1u32 << (8 << shift)) - 1
-            };
-            if ce < max && ch < max {
-                self.set(shift, ke, ce + 1);
-                self.set(shift, kh, ch + 1);
-                return;
-            }
-            if shift == 2 {
-                // saturated: u32::MAX stays
-                self.set(shift, ke, ce.saturating_add(1));
-                self.set(shift, kh, ch.saturating_add(1));
+            // saturated counts stay at u32::MAX
+            let ce = self.get(&l, 0, e_bin).saturating_add(1);
+            let ch = self.get(&l, 1, h_bin).saturating_add(1);
+            if PackedHists::fits(&l, 0, e_bin, ce) && PackedHists::fits(&l, 1, h_bin, ch) {
+                self.set(&l, 0, e_bin, ce);
+                self.set(&l, 1, h_bin, ch);
                 return;
             }
         }
@@ -340,13 +418,46 @@ impl PackedHists {
         self.merge(&entry);
     }
 
-    /// Appends a visit to a list when the list stays no longer than the windows its visits
+    /// One visit when both bins are in the windows and their low bytes below 255: the low
+    /// bytes count it, no carry reaches another plane (the common case, without reading the
+    /// other planes' windows). False, and nothing counted, otherwise.
+    #[inline]
+    fn add_low(&mut self, e_bin: usize, h_bin: usize) -> bool {
+        if self.is_empty() || self.is_list() {
+            return false;
+        }
+        let planes = usize::from(self.data[0]) + 1;
+        let (e, h) = (
+            Span {
+                lo: self.u16_at(1),
+                n: self.u16_at(3),
+            },
+            Span {
+                lo: self.u16_at(5),
+                n: self.u16_at(7),
+            },
+        );
+        if !e.contains(e_bin) || !h.contains(h_bin) {
+            return false;
+        }
+        let at_e = 1 + PLANE_HEAD * planes + e_bin - e.lo;
+        let at_h = 1 + PLANE_HEAD * planes + e.n + h_bin - h.lo;
+        if self.data[at_e] == u8::MAX || self.data[at_h] == u8::MAX {
+            return false;
+        }
+        self.data[at_e] += 1;
+        self.data[at_h] += 1;
+        true
+    }
+
+    /// Appends a visit to a list when the list stays no longer than the planes its visits
     /// need (growing its room by half when full); false when it would not.
     fn push(&mut self, e_bin: usize, h_bin: usize) -> bool {
         let n = self.list_len();
         let (e, h) = self.spans();
         let (e, h) = (e.union(Span::of_bin(e_bin)), h.union(Span::of_bin(h_bin)));
-        if n >= LIST_MAX || LIST_HEAD + ENTRY * (n + 1) > HEADER + e.n + h.n {
+        // a list's counts are at most 255: one plane
+        if n >= LIST_MAX || LIST_HEAD + ENTRY * (n + 1) > 1 + PLANE_HEAD + e.n + h.n {
             return false;
         }
         let room = (self.data.len() - LIST_HEAD) / ENTRY;
@@ -384,9 +495,9 @@ impl PackedHists {
         let (oe, oh) = o.spans();
         let (e, h) = (se.union(oe), sh.union(oh));
         if self.is_list() && o.is_list() {
-            // a list stays a list while no longer than the windows its visits need
+            // a list stays a list while no longer than the plane its visits need
             let (n, m) = (self.list_len(), o.list_len());
-            if n + m <= LIST_MAX && LIST_HEAD + ENTRY * (n + m) <= HEADER + e.n + h.n {
+            if n + m <= LIST_MAX && LIST_HEAD + ENTRY * (n + m) <= 1 + PLANE_HEAD + e.n + h.n {
                 let mut data = Vec::with_capacity(LIST_HEAD + ENTRY * (n + m));
                 data.extend_from_slice(&[LIST, (n + m) as u8]);
                 data.extend_from_slice(&self.data[LIST_HEAD..LIST_HEAD + ENTRY * n]);
@@ -401,21 +512,29 @@ impl PackedHists {
         *self = PackedHists::pack(&d);
     }
 
-    /// The windows form of `d`.
+    /// The planes form of `d`.
     fn pack(d: &Dense) -> PackedHists {
         debug_assert!(d.e.lo + d.e.n <= ENERGY_BINS && d.h.lo + d.h.n <= SHORT_BINS);
-        let shift = shift_for(d.counts.iter().copied().max().unwrap_or(0));
-        let mut data = vec![0u8; HEADER + (d.counts.len() << shift)];
-        data[0] = shift;
-        for (i, v) in [d.e.lo, d.e.n, d.h.lo, d.h.n].into_iter().enumerate() {
-            // every bin index and window length is below ENERGY_BINS (322) < u16::MAX
-            data[1 + 2 * i..3 + 2 * i].copy_from_slice(&(v as u16).to_le_bytes());
+        let l = d.layout();
+        let mut data = vec![0u8; l.len];
+        data[0] = (l.planes - 1) as u8;
+        for plane in 0..l.planes {
+            for hist in 0..2 {
+                let s = l.spans[plane][hist];
+                let at = 1 + PLANE_HEAD * plane + 4 * hist;
+                // every bin index and window length is below ENERGY_BINS (322) < u16::MAX
+                data[at..at + 2].copy_from_slice(&(s.lo as u16).to_le_bytes());
+                data[at + 2..at + 4].copy_from_slice(&(s.n as u16).to_le_bytes());
+            }
         }
         let mut p = PackedHists {
             data: data.into_boxed_slice(),
         };
-        for (k, &c) in d.counts.iter().enumerate() {
-            p.set(shift, k, c);
+        for hist in 0..2 {
+            let (w, counts) = d.hist(hist);
+            for (k, &c) in counts.iter().enumerate() {
+                p.set(&l, hist, w.lo + k, c);
+            }
         }
         p
     }
@@ -528,6 +647,82 @@ mod tests {
             PackedHists::new().percentile(true, &ENERGY_AXIS, 0, 50.0, 1.0),
             None
         );
+    }
+
+    #[test]
+    fn planes_carry_every_count_across_their_bytes() {
+        // counts at each plane's edges, in bins that are not neighbours
+        let counts = [1u32, 255, 256, 65_535, 65_536, 1 << 24, u32::MAX - 1];
+        let energy: Vec<(usize, u32)> = (counts.iter().enumerate())
+            .map(|(k, &c)| (10 + 7 * k, c))
+            .collect();
+        let mut p = PackedHists::from_bins(&energy, &[(2, 300)]);
+        let l = p.layout().expect("planes");
+        assert_eq!(l.planes, 3);
+        // plane 1 from the first count above 255, plane 2 from the first above 65 535
+        assert_eq!(
+            l.spans[1][0],
+            Span {
+                lo: 24,
+                n: 6 * 7 - 14 + 1
+            }
+        );
+        assert_eq!(
+            l.spans[2][0],
+            Span {
+                lo: 38,
+                n: 6 * 7 - 28 + 1
+            }
+        );
+        assert_eq!(l.spans[1][1], Span { lo: 2, n: 1 });
+        assert_eq!(l.spans[2][1], Span::EMPTY);
+        let (e, h) = dense(&p);
+        for &(b, c) in &energy {
+            assert_eq!(e[b], c, "bin {b}");
+        }
+        assert_eq!(h[2], 300);
+        // one visit in each bin: carries into planes the bin is already in, or widens them
+        for &(b, _) in &energy {
+            p.add(b, 2);
+        }
+        let (e, h) = dense(&p);
+        for &(b, c) in &energy {
+            assert_eq!(e[b], c + 1, "bin {b} after a visit");
+        }
+        assert_eq!(h[2], 300 + 7);
+        // 255 + 1 widened plane 1 down to bin 17; u32::MAX saturates
+        let l = p.layout().expect("planes");
+        assert_eq!(l.spans[1][0].lo, 17);
+        p.add(52, 2);
+        assert_eq!(dense(&p).0[52], u32::MAX);
+        // bytes: the header, one byte per bin of the windows, one per bin above 255, two per
+        // bin above 65 535
+        let l = p.layout().expect("planes");
+        let bins = |plane: usize| l.spans[plane][0].n + l.spans[plane][1].n;
+        assert_eq!(p.heap_bytes(), 1 + 24 + bins(0) + bins(1) + 2 * bins(2));
+        assert_eq!(p.compact_bytes(), p.heap_bytes());
+    }
+
+    #[test]
+    fn a_dense_unimodal_cell_takes_well_under_four_bytes_a_bin() {
+        // 2·10⁶ visits over a bell of 100 energy bins and 40 height bins
+        let bell = |n: usize, total: f64| -> Vec<(usize, u32)> {
+            (0..n)
+                .map(|k| {
+                    let x = (k as f64 - n as f64 / 2.0) / (n as f64 / 8.0);
+                    (50 + k, 1 + (total * (-x * x / 2.0).exp() / 20.0) as u32)
+                })
+                .collect()
+        };
+        let p = PackedHists::from_bins(&bell(100, 2e6), &bell(40, 2e6));
+        let (e, _) = dense(&p);
+        assert!(
+            e.iter().any(|&c| c > 65_535),
+            "the peak needs the third plane"
+        );
+        // every count at four bytes took 9 + 4 × 140 = 569 bytes
+        // planes: 1 + 24 header, 140 low bytes, 122 second bytes, 32 bins of two high bytes
+        assert_eq!(p.heap_bytes(), 25 + 140 + 122 + 2 * 32);
     }
 
     #[test]
