@@ -89,13 +89,9 @@ impl Enc {
     }
 
     /// `v` as a LEB128 varint (1 to 19 bytes).
-    pub(crate) fn u128(&mut self, mut v: u128) {
+    pub(crate) fn u128(&mut self, v: u128) {
         self.room();
-        while v >= 0x80 {
-            self.buf.push((v as u8) | 0x80);
-            v >>= 7;
-        }
-        self.buf.push(v as u8);
+        put_varint(&mut self.buf, v);
     }
 
     /// The bit pattern of `v` (NaN payloads and signed zeros survive), 8 bytes.
@@ -361,6 +357,16 @@ impl std::fmt::Write for Fnv1a {
         self.bytes(s.as_bytes());
         Ok(())
     }
+}
+
+/// Appends `v` as a LEB128 varint: seven bits a byte, low bits first, the high bit set on
+/// every byte but the last.
+pub(crate) fn put_varint(buf: &mut Vec<u8>, mut v: u128) {
+    while v >= 0x80 {
+        buf.push((v as u8) | 0x80);
+        v >>= 7;
+    }
+    buf.push(v as u8);
 }
 
 #[cfg(test)]

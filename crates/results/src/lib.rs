@@ -37,7 +37,7 @@
 //! doubling) and on the heap its energy and passing-height histograms packed (3 bytes per
 //! visit for a cell visited a few times, else one byte per bin of the window it uses and
 //! more only for the bins counting past 255), its source cells as runs of
-//! neighbours (8 bytes a run) and, where rocks stopped, hit trees or passed above an energy
+//! neighbours (8 bytes for the last, 3–4 for each other) and, where rocks stopped, hit trees or passed above an energy
 //! threshold, 80 bytes more: 0.34–0.36 kB per reached cell on vaujany-site2 with 10⁴–5·10⁴
 //! rocks and 0.49 kB on a 10⁷-cell `alpine-region` (many cells visited a few times)
 //! (`cell_statistics_bytes_per_reached_cell` of `summary.json`). The histograms grow little
