@@ -38,12 +38,10 @@
 //! visit for a cell visited a few times, else one byte per bin of the window it uses and
 //! more only for the bins counting past 255), its source cells as runs of
 //! neighbours (8 bytes for the last, 3–4 for each other) and, where rocks stopped, hit trees or passed above an energy
-//! threshold, 80 bytes more: 0.34–0.36 kB per reached cell on vaujany-site2 with 10⁴–5·10⁴
-//! rocks and 0.49 kB on a 10⁷-cell `alpine-region` (many cells visited a few times)
-//! (`cell_statistics_bytes_per_reached_cell` of `summary.json`). The histograms grow little
-//! with a cell's visits: vaujany-site2 holds 0.36 kB per reached cell with 2·10⁵ rocks,
-//! 0.38 kB with 10⁶ (0.51 and 0.52 kB when every count of a window took the width of the
-//! largest, up to 4 bytes). A run's workers
+//! threshold, 80 bytes more: 0.31–0.42 kB per reached cell in every case measured
+//! (`cell_statistics_bytes_per_reached_cell` of `summary.json`; docs/scale.md): vaujany-site2
+//! with 10⁴–10⁶ rocks (cells of 10⁵ visits and more), `alpine-region` of 10⁶ cells with 1–100
+//! rocks per source cell (cells reached from hundreds of source cells) and of 10⁷ cells. A run's workers
 //! move their cells into one shared table every 65 536 cells ([`Tally::flush_cells`]), so
 //! the threads do not multiply it. Per-screen and per-rock statistics are a few
 //! kB in all; the speed profile ([`Results::speed_profile`]) 4 kB per distance bin of one
