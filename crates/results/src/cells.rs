@@ -747,7 +747,9 @@ mod tests {
             (4097, 4096 + 64),
         ] {
             while t.len() < n {
+                let before = t.len();
                 t.deposit(t.len());
+                assert_eq!(t.len(), before + 1, "a deposit in a new cell adds it");
             }
             let pages: usize = t.pages.iter().map(Vec::capacity).sum();
             assert_eq!(pages, room, "room for {n} cells");

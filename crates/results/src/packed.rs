@@ -704,6 +704,33 @@ mod tests {
     }
 
     #[test]
+    fn a_visit_outside_either_window_widens_it() {
+        let mut p = PackedHists::from_bins(&[(5, 10)], &[(2, 10)]);
+        p.add(5, 7);
+        p.add(9, 2);
+        let (e, h) = dense(&p);
+        assert_eq!((e[5], e[9], h[2], h[7]), (11, 1, 11, 1));
+    }
+
+    #[test]
+    fn lists_merge_into_a_list_while_no_longer_than_a_plane() {
+        let list = |visits: &[(usize, usize)]| {
+            let mut p = PackedHists::new();
+            visits.iter().for_each(|&(e, h)| p.add(e, h));
+            p
+        };
+        let mut a = list(&[(0, 0), (1, 1), (2, 2)]);
+        // five visits: 2 + 3 × 5 = 17 bytes, as the plane of 5 + 3 bins with its 9 of header
+        a.merge(&list(&[(3, 0), (4, 1)]));
+        assert!(a.is_list() && a.heap_bytes() == 17);
+        a.merge(&list(&[(0, 0)]));
+        assert!(
+            !a.is_list() && a.heap_bytes() == 17,
+            "a sixth visit: the plane"
+        );
+    }
+
+    #[test]
     fn a_dense_unimodal_cell_takes_well_under_four_bytes_a_bin() {
         // 2·10⁶ visits over a bell of 100 energy bins and 40 height bins
         let bell = |n: usize, total: f64| -> Vec<(usize, u32)> {
@@ -749,5 +776,13 @@ mod tests {
         let mut empty = PackedHists::new();
         empty.merge(&PackedHists::new());
         assert!(empty.is_empty());
+        // the passing heights saturate too
+        let tall = PackedHists::from_bins(&[(5, 1)], &[(0, u32::MAX - 1)]);
+        let short = PackedHists::from_bins(&[(5, 1)], &[(0, 2)]);
+        for (mut x, y) in [(tall.clone(), &short), (short.clone(), &tall)] {
+            x.merge(y);
+            assert_eq!(dense(&x).1[0], u32::MAX);
+            assert_eq!(dense(&x).0[5], 2);
+        }
     }
 }

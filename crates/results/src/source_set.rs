@@ -252,6 +252,30 @@ mod tests {
     }
 
     #[test]
+    fn varints_take_their_counted_bytes() {
+        for (v, n) in [
+            (0, 1),
+            (127, 1),
+            (128, 2),
+            (16_383, 2),
+            (16_384, 3),
+            (u32::MAX, 5),
+        ] {
+            assert_eq!(varint_len(v), n, "{v}");
+            let mut out = Vec::new();
+            put(&mut out, v);
+            assert_eq!(out.len(), n, "{v}");
+            assert_eq!(take(&out, &mut 0), v);
+        }
+        // a source already in the last run changes nothing, in place
+        let mut s = SourceSet::of_runs(&[(1, 2), (4, 9)]);
+        let before = s.bytes.as_ptr();
+        s.insert(4);
+        s.insert(9);
+        assert_eq!((s.bytes.as_ptr(), s.runs()), (before, vec![(1, 2), (4, 9)]));
+    }
+
+    #[test]
     fn rows_of_a_band_cost_a_few_bytes_each() {
         // a band 12 sources wide over 30 rows of a 5 000-column grid, rocks in source order
         let ncols = 5_000u32;
