@@ -338,3 +338,109 @@ fn tiles_burn_their_windows_of_each_layer_and_merge_into_the_single_run() {
     ok(rockfall(&args));
     common::same_outputs(&single, &merged);
 }
+
+/// A 40 × 30 grid of 10 m cells at (600000, 5100000) falling to the south, its soil types
+/// from a GeoPackage of 12 × 10 squares written by ogr2ogr (with its R-tree index), released
+/// from a band of cells in the north.
+fn squares_site(dir: &Path) -> Option<PathBuf> {
+    let mut dem = String::from(
+        "ncols 40\nnrows 30\nxllcorner 600000\nyllcorner 5100000\ncellsize 10\nNODATA_value -9999\n",
+    );
+    for row in 0..30 {
+        let z: Vec<String> = (0..40)
+            .map(|c| format!("{}", 500.0 - 6.0 * row as f64 + 0.2 * c as f64))
+            .collect();
+        dem += &z.join(" ");
+        dem.push('\n');
+    }
+    std::fs::write(dir.join("dem.asc"), dem).unwrap();
+    let polygon = |x: f64, y: f64, w: f64, h: f64, props: String| {
+        format!(
+            r#"{{"type":"Feature","properties":{{{props}}},"geometry":{{"type":"Polygon","coordinates":[[[{x},{y}],[{},{y}],[{},{}],[{x},{}],[{x},{y}]]]}}}}"#,
+            x + w,
+            x + w,
+            y + h,
+            y + h
+        )
+    };
+    let collection = |features: Vec<String>| {
+        format!(
+            r#"{{"type":"FeatureCollection","crs":{{"type":"name","properties":{{"name":"urn:ogc:def:crs:EPSG::2056"}}}},"features":[{}]}}"#,
+            features.join(",")
+        )
+    };
+    let squares = (0..120)
+        .map(|k| {
+            let (i, j) = ((k % 12) as f64, (k / 12) as f64);
+            let soil = format!(r#""soil":{}"#, 1 + (k * 5 % 6));
+            polygon(
+                600_005.0 + 33.0 * i,
+                5_100_002.0 + 29.0 * j,
+                30.0,
+                30.0,
+                soil,
+            )
+        })
+        .collect();
+    std::fs::write(dir.join("soil.geojson"), collection(squares)).unwrap();
+    let band = polygon(600_020.0, 5_100_250.0, 360.0, 20.0, String::new());
+    std::fs::write(dir.join("release.geojson"), collection(vec![band])).unwrap();
+    let made = std::process::Command::new("ogr2ogr")
+        .args(["-f", "GPKG", "soil.gpkg", "soil.geojson", "-nln", "soil"])
+        .current_dir(dir)
+        .status();
+    match made {
+        Ok(s) if s.success() => {}
+        _ if std::env::var_os("CI").is_some() => panic!("ogr2ogr (gdal-bin) is needed in CI"),
+        _ => return None,
+    }
+    let scenario = dir.join("scenario.toml");
+    let text = "[terrain]\ndem = \"dem.asc\"\nepsg = 2056\n\
+                soiltype = { vector = \"soil.gpkg\", field = \"soil\" }\n\n\
+                [rock]\nshape = \"sphere\"\ndiameter_m = 0.8\n\n\
+                [release]\ncells = \"release.geojson\"\n\n[simulation]\nrocks_per_cell = 3\n";
+    std::fs::write(&scenario, text).unwrap();
+    Some(scenario)
+}
+
+#[test]
+fn tiles_read_a_soil_geopackage_over_their_windows_and_merge_into_the_single_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let Some(scenario) = squares_site(dir.path()) else {
+        eprintln!("ogr2ogr not found: skipped");
+        return;
+    };
+    let check = ok(rockfall(&["check", s(&scenario)]));
+    assert!(
+        check.contains("layer `soil`: 120 features (polygons)"),
+        "{check}"
+    );
+    let run = |extra: &[&str], out: &Path| {
+        let mut args = vec!["run", s(&scenario), "--threads", "1", "--out", s(out)];
+        args.extend(extra);
+        ok(rockfall(&args))
+    };
+    let single = dir.path().join("single");
+    run(&[], &single);
+    let index = dir.path().join("region.index");
+    let mut dirs = Vec::new();
+    for i in 1..=4 {
+        let d = dir.path().join(format!("t{i}"));
+        let tile = format!("{i}/4");
+        run(
+            &["--tile", &tile, "--halo-m", "40", "--tile-index", s(&index)],
+            &d,
+        );
+        dirs.push(d);
+    }
+    // the first pass of a tile reads less than the grid (40 × 30 cells)
+    let first = json(&dirs[0].join("tile.json"));
+    let window = &first["passes"][0]["window"];
+    assert!(window[2].as_u64().unwrap() < 40, "{window}");
+    let merged = dir.path().join("merged");
+    let mut args = vec!["merge"];
+    args.extend(dirs.iter().map(|d| s(d)));
+    args.extend(["--out", s(&merged)]);
+    ok(rockfall(&args));
+    common::same_outputs(&single, &merged);
+}

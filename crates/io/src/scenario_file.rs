@@ -101,9 +101,11 @@ struct Resolver {
     frame: Option<Frame>,
     /// What reading found worth saying (printed by `check`).
     notes: Vec<String>,
-    /// Vector layers read so far, by (file, layer asked for): a layer that gives several
-    /// keys (a stand layer's attributes) is read and checked once.
-    layers: BTreeMap<(PathBuf, Option<String>), Rc<vec_io::Layer>>,
+    /// Vector layers read so far, by (file, layer asked for, read for a per-cell parameter):
+    /// a layer that gives several keys (a stand layer's attributes) is read and checked once.
+    /// A tile reads a per-cell parameter's layer over its window only; the same file as a
+    /// release, stems or nets is read whole (their numbering or screens span the region).
+    layers: BTreeMap<(PathBuf, Option<String>, bool), Rc<vec_io::Layer>>,
     /// Reading one spatial tile of the region: its windows.
     tile: Option<TileRead>,
 }
@@ -154,7 +156,7 @@ impl Resolver {
             Some(Param::Num(v)) => Ok(Field::Const(v)),
             Some(Param::Path(s)) => Ok(Field::Grid(self.grid(param, &s)?)),
             Some(Param::Vector(v)) => {
-                let layer = self.layer(param, &v.vector, v.layer.as_deref())?;
+                let layer = self.read_layer(param, &v.vector, v.layer.as_deref(), true)?;
                 let frame = self.frame()?;
                 let (grid, cells) =
                     inputs::field_grid(&layer, &v.field, &frame, outside(param, default), param)?;
@@ -178,14 +180,32 @@ impl Resolver {
         p: &str,
         layer: Option<&str>,
     ) -> Result<Rc<vec_io::Layer>, InputError> {
+        self.read_layer(param, p, layer, false)
+    }
+
+    /// [`Self::layer`]; `for_cells` for a per-cell parameter's polygons, which a tile reads
+    /// over its window only ([`inputs::open_for_cells`]).
+    fn read_layer(
+        &mut self,
+        param: &str,
+        p: &str,
+        layer: Option<&str>,
+        for_cells: bool,
+    ) -> Result<Rc<vec_io::Layer>, InputError> {
         let path = self.path(p);
         self.sources.insert(param.into(), path.clone());
-        let key = (path, layer.map(str::to_string));
+        let frame = self.frame()?;
+        // on the whole grid both reads are the same: one read serves both
+        let windowed = for_cells && frame.window.is_some();
+        let key = (path, layer.map(str::to_string), windowed);
         if let Some(l) = self.layers.get(&key) {
             return Ok(Rc::clone(l));
         }
-        let frame = self.frame()?;
-        let l = Rc::new(inputs::open(&key.0, layer, &frame, &mut self.notes)?);
+        let open = match windowed {
+            true => inputs::open_for_cells,
+            false => inputs::open,
+        };
+        let l = Rc::new(open(&key.0, layer, &frame, &mut self.notes)?);
         self.layers.insert(key, Rc::clone(&l));
         Ok(l)
     }

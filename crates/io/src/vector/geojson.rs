@@ -35,6 +35,7 @@ pub fn parse_geojson(bytes: &[u8], path: &Path) -> Result<Layer, VectorError> {
         path: path.to_path_buf(),
         name,
         crs: Some(crs_of(members.as_ref(), path)?),
+        within: None,
         features: Vec::with_capacity(features.len()),
     };
     for (index, f) in features.into_iter().enumerate() {

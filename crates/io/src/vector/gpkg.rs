@@ -3,14 +3,20 @@
 //! geometry blobs decoded by [`super::wkb`].
 
 use super::wkb::decode_gpkg_geometry;
-use super::{Feature, Geometry, Layer, Value, VectorError};
+use super::{Envelope, Feature, Geometry, Layer, Value, VectorError};
 use rockfall_raster::Crs;
 use rusqlite::types::ValueRef;
 use rusqlite::{Connection, OpenFlags};
 use std::path::Path;
 
-/// Reads the layer `layer` (the only one when `None`) of a GeoPackage, read-only.
-pub(super) fn read(path: &Path, layer: Option<&str>) -> Result<Layer, VectorError> {
+/// Reads the layer `layer` (the only one when `None`) of a GeoPackage, read-only; with
+/// `within`, through the layer's R-tree when it has one: the features whose stored box meets
+/// `within` (the caller drops those whose exact box does not), in the table's order.
+pub(super) fn read(
+    path: &Path,
+    layer: Option<&str>,
+    within: Option<Envelope>,
+) -> Result<Layer, VectorError> {
     let fail = |m: String| VectorError::file(path, m);
     let db = Connection::open_with_flags(path, OpenFlags::SQLITE_OPEN_READ_ONLY)
         .map_err(|e| fail(format!("not a readable GeoPackage: {e}")))?;
@@ -49,6 +55,7 @@ pub(super) fn read(path: &Path, layer: Option<&str>) -> Result<Layer, VectorErro
         name: table.clone(),
         crs: crs(&db, srs_id).map_err(sql)?,
         features: Vec::new(),
+        within: None,
     };
     let quoted = |s: &str| format!("\"{}\"", s.replace('"', "\"\""));
     let pk: Option<String> = db
@@ -60,11 +67,40 @@ pub(super) fn read(path: &Path, layer: Option<&str>) -> Result<Layer, VectorErro
             Ok(cols.into_iter().find(|c| c.1 == 1).map(|c| c.0))
         })
         .map_err(sql)?;
-    let mut stmt = db
-        .prepare(&format!("SELECT * FROM {}", quoted(&table)))
-        .map_err(sql)?;
+    let indexed = within.zip(pk.as_ref()).and_then(|(e, pk)| {
+        let rtree = format!("rtree_{table}_{column}");
+        let exists = db
+            .query_row(
+                "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?1",
+                [&rtree],
+                |r| r.get::<_, i64>(0),
+            )
+            .is_ok_and(|n| n > 0);
+        // the index's boxes are rounded outward to f32: a superset of the exact test
+        let query = format!(
+            "SELECT * FROM {} WHERE {} IN (SELECT id FROM {} WHERE minx <= ?3 AND maxx >= ?1 AND miny <= ?4 AND maxy >= ?2) ORDER BY rowid",
+            quoted(&table),
+            quoted(pk),
+            quoted(&rtree)
+        );
+        let stmt = exists.then(|| db.prepare(&query).ok()).flatten()?;
+        Some((stmt, [e.x_min_m, e.y_min_m, e.x_max_m, e.y_max_m]))
+    });
+    // without an index (or SQLite's R-tree module), the whole table in its order
+    let (mut stmt, bounds) = match indexed {
+        Some((stmt, b)) => (stmt, Some(b)),
+        None => (
+            db.prepare(&format!("SELECT * FROM {}", quoted(&table)))
+                .map_err(sql)?,
+            None,
+        ),
+    };
     let columns: Vec<String> = stmt.column_names().map(String::from).collect();
-    let mut rows = stmt.query([]).map_err(sql)?;
+    let mut rows = match &bounds {
+        Some(b) => stmt.query(rusqlite::params_from_iter(b.iter())),
+        None => stmt.query([]),
+    }
+    .map_err(sql)?;
     let mut index = 0i64;
     while let Some(row) = rows.next().map_err(sql)? {
         let mut id = index;

@@ -3,7 +3,7 @@
 //! CRS and extent, and described for `rockfall check`.
 
 use super::burn::{line_cells, polygon_cells_in};
-use super::{Feature, Geometry, Layer, Value, VectorError, Xy, read_layer, same_crs};
+use super::{Envelope, Feature, Geometry, Layer, Value, VectorError, Xy, read_layer_in, same_crs};
 use rockfall_forest::Stem;
 use rockfall_raster::{Crs, Grid, GridGeometry, Window};
 use std::path::Path;
@@ -65,7 +65,25 @@ pub fn open(
     frame: &Frame,
     notes: &mut Vec<String>,
 ) -> Result<Layer, VectorError> {
-    let l = read_layer(path, layer)?;
+    checked(read_layer_in(path, layer, None)?, frame, notes)
+}
+
+/// [`open`] for a layer burnt as a per-cell parameter ([`field_grid`]): on a tile's frame only
+/// the features whose bounding box meets the tile's window are read (the others burn no cell
+/// of it), so a tile of a national run does not hold a national polygon layer; on the whole
+/// grid, every feature.
+pub fn open_for_cells(
+    path: &Path,
+    layer: Option<&str>,
+    frame: &Frame,
+    notes: &mut Vec<String>,
+) -> Result<Layer, VectorError> {
+    let within = (frame.window).map(|w| Envelope::of_window(&frame.geometry, &w));
+    checked(read_layer_in(path, layer, within)?, frame, notes)
+}
+
+/// Checks a layer's CRS against the DEM's (see [`open`]).
+fn checked(l: Layer, frame: &Frame, notes: &mut Vec<String>) -> Result<Layer, VectorError> {
     match (&l.crs, &frame.crs) {
         (Some(a), Some(b)) if !same_crs(a, b) => {
             return Err(VectorError::layer(
@@ -80,12 +98,12 @@ pub fn open(
         (Some(_), Some(_)) => {}
         (None, _) => notes.push(format!(
             "{} layer `{}`: no CRS given; taken to be the DEM's",
-            path.display(),
+            l.path.display(),
             l.name
         )),
         (Some(_), None) => notes.push(format!(
             "{} layer `{}`: the DEM has no CRS; the layer's coordinates are taken as the DEM's",
-            path.display(),
+            l.path.display(),
             l.name
         )),
     }
@@ -340,10 +358,14 @@ pub fn net_grids(nets: &[NetLine], frame: &Frame) -> Option<[Grid<f64>; 3]> {
 /// `count` of `what` (e.g. "cells covered", "stems").
 pub fn describe(key: &str, layer: &Layer, count: usize, what: &str) -> String {
     format!(
-        "vector {key}: {} layer `{}`: {} features ({}), {count} {what}",
+        "vector {key}: {} layer `{}`: {} features{} ({}), {count} {what}",
         layer.path.display(),
         layer.name,
         layer.features.len(),
+        match layer.within {
+            Some(_) => " meeting the tile's window",
+            None => "",
+        },
         kinds(layer)
     )
 }

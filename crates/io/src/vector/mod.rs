@@ -9,6 +9,7 @@
 //! from 0. Errors name the file, the layer and the feature.
 
 pub mod burn;
+mod envelope;
 mod geojson;
 #[cfg(feature = "gpkg")]
 mod gpkg;
@@ -20,6 +21,7 @@ mod shp;
 pub mod wkb;
 
 pub use self::geojson::parse_geojson;
+pub use envelope::Envelope;
 pub use polygonize::polygonize;
 pub use shp::parse_shapefile;
 
@@ -100,6 +102,9 @@ pub struct Layer {
     pub crs: Option<Crs>,
     /// Its features, in the file's order.
     pub features: Vec<Feature>,
+    /// `Some(e)` when only the features whose bounding box meets `e` were read (a tile's
+    /// read of a polygon layer, [`read_layer_in`]).
+    pub within: Option<Envelope>,
 }
 
 /// A vector input that cannot be used: the file, the layer and the feature where they apply.
@@ -165,6 +170,31 @@ fn extension(path: &Path) -> Option<String> {
 /// Reads the layer `layer` of a vector file (the only layer when `None`; a GeoPackage of
 /// several layers then needs the name).
 pub fn read_layer(path: &Path, layer: Option<&str>) -> Result<Layer, VectorError> {
+    read_layer_in(path, layer, None)
+}
+
+/// [`read_layer`] keeping, with `within`, only the features whose bounding box meets it, in
+/// the file's order (see `envelope.rs`). A GeoPackage with the R-tree index of its geometry
+/// column (`rtree_<table>_<column>`, which GDAL writes) is asked for those features alone;
+/// other files are read whole and the features that miss it dropped once decoded.
+pub fn read_layer_in(
+    path: &Path,
+    layer: Option<&str>,
+    within: Option<Envelope>,
+) -> Result<Layer, VectorError> {
+    let mut l = read_whole_or_indexed(path, layer, within)?;
+    if let Some(e) = &within {
+        envelope::keep_meeting(&mut l.features, e);
+        l.within = within;
+    }
+    Ok(l)
+}
+
+fn read_whole_or_indexed(
+    path: &Path,
+    layer: Option<&str>,
+    within: Option<Envelope>,
+) -> Result<Layer, VectorError> {
     if !path.is_file() {
         return Err(VectorError::file(path, "no such vector file"));
     }
@@ -176,6 +206,8 @@ pub fn read_layer(path: &Path, layer: Option<&str>) -> Result<Layer, VectorError
         )),
         _ => Ok(l),
     };
+    #[cfg(not(feature = "gpkg"))]
+    let _ = within;
     match extension(path).as_deref() {
         Some("geojson" | "json") => layer_of_file(parse_geojson(&read(path)?, path)?),
         Some("shp") => {
@@ -192,7 +224,7 @@ pub fn read_layer(path: &Path, layer: Option<&str>) -> Result<Layer, VectorError
             layer_of_file(parse_shapefile(&read(path)?, &dbf, prj.as_deref(), path)?)
         }
         #[cfg(feature = "gpkg")]
-        Some("gpkg") => gpkg::read(path, layer),
+        Some("gpkg") => gpkg::read(path, layer, within),
         #[cfg(not(feature = "gpkg"))]
         Some("gpkg") => Err(VectorError::file(
             path,

@@ -20,6 +20,10 @@ pub fn parse_shapefile(
         .map_err(|m| VectorError::file(path, format!("not a readable Shapefile: {m}")))?;
     let mut table = shapefile::dbase::Reader::new(Cursor::new(dbf))
         .map_err(|e| VectorError::file(path, format!("the .dbf is not readable: {e}")))?;
+    // the crate hands a row over as a hash map: the header gives the fields' order
+    let names: Vec<String> = (table.fields().iter())
+        .map(|f| f.name().to_string())
+        .collect();
     let mut rows = table.iter_records();
     let mut layer = Layer {
         path: path.to_path_buf(),
@@ -27,6 +31,7 @@ pub fn parse_shapefile(
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
         crs: prj.map(Crs::from_wkt),
+        within: None,
         features: Vec::with_capacity(contents.len()),
     };
     for (index, content) in contents.into_iter().enumerate() {
@@ -37,13 +42,13 @@ pub fn parse_shapefile(
             i32::try_from(content.len()).map_err(|_| fail(&layer, "record too long".into()))?;
         let shape = Shape::read_from(&mut Cursor::new(content), size)
             .map_err(|e| fail(&layer, e.to_string()))?;
-        let record = match rows.next() {
+        let mut record = match rows.next() {
             Some(r) => r.map_err(|e| fail(&layer, format!("its .dbf row: {e}")))?,
             None => return Err(fail(&layer, "no .dbf row for this shape".into())),
         };
         let geometry = geometry(shape).map_err(|m| fail(&layer, m))?;
-        let attributes = (record.into_iter())
-            .map(|(name, v)| (name, value(v)))
+        let attributes = (names.iter())
+            .filter_map(|name| Some((name.clone(), value(record.remove(name)?))))
             .collect();
         layer.features.push(Feature {
             id,

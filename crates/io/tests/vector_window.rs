@@ -1,0 +1,224 @@
+//! What a tile reads of a polygon layer: the features whose bounding box meets its window, in
+//! the layer's order, from any format; through a GeoPackage's R-tree where it has one; and a
+//! tile's per-cell parameters burnt from them exactly as the whole region's.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use rockfall_io::scenario_file::{read_scenario, read_scenario_tile};
+use rockfall_io::vector::{Envelope, Layer, read_layer, read_layer_in};
+use rockfall_raster::Window;
+use std::path::{Path, PathBuf};
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/vector")
+        .join(name)
+}
+
+fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Envelope {
+    Envelope {
+        x_min_m: x0,
+        y_min_m: y0,
+        x_max_m: x1,
+        y_max_m: y1,
+    }
+}
+
+/// The stands of the fixtures (three polygons on the 12 × 10 grid of 10 m cells at
+/// (900000, 6400000)): two in the south half, one strip along the north.
+const SOUTH: (f64, f64, f64, f64) = (900_000.0, 6_400_000.0, 900_120.0, 6_400_050.0);
+const EAST: (f64, f64, f64, f64) = (900_100.0, 6_400_000.0, 900_120.0, 6_400_100.0);
+const AWAY: (f64, f64, f64, f64) = (800_000.0, 6_300_000.0, 800_100.0, 6_300_100.0);
+
+fn read(file: &str, layer: Option<&str>, r: (f64, f64, f64, f64)) -> Layer {
+    read_layer_in(&data(file), layer, Some(rect(r.0, r.1, r.2, r.3))).unwrap()
+}
+
+#[test]
+fn a_window_reads_the_features_that_meet_it_in_the_layers_order() {
+    for (file, layer) in [
+        ("site.gpkg", Some("stands")),
+        ("stands.geojson", None),
+        ("stands.shp", None),
+    ] {
+        let whole = read_layer(&data(file), layer).unwrap();
+        assert_eq!(whole.features.len(), 3, "{file}");
+        assert_eq!(whole.within, None);
+        for (r, expect) in [(SOUTH, vec![0, 2]), (EAST, vec![1]), (AWAY, vec![])] {
+            let part = read(file, layer, r);
+            let kept: Vec<_> = part.features.iter().collect();
+            let want: Vec<_> = expect.iter().map(|&k| &whole.features[k]).collect();
+            assert_eq!(kept, want, "{file} over {r:?}");
+            assert_eq!(part.within, Some(rect(r.0, r.1, r.2, r.3)));
+            assert_eq!((&part.name, &part.crs), (&whole.name, &whole.crs));
+        }
+    }
+}
+
+/// Copies the fixture GeoPackage into a temporary folder and runs `sql` on the copy.
+#[cfg(feature = "gpkg")]
+fn edited_gpkg(sql: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("site.gpkg");
+    std::fs::copy(data("site.gpkg"), &path).unwrap();
+    let db = rusqlite::Connection::open(&path).unwrap();
+    db.execute_batch(sql).unwrap();
+    (dir, path)
+}
+
+#[cfg(feature = "gpkg")]
+#[test]
+fn a_geopackage_window_is_read_through_its_rtree_or_without_one() {
+    let east = Some(rect(EAST.0, EAST.1, EAST.2, EAST.3));
+    let ids = |l: &Layer| l.features.iter().map(|f| f.id).collect::<Vec<_>>();
+    // the index says the north strip (fid 2) lies far away: a read through the index misses
+    // it, a read of the whole layer still has it
+    let (_dir, moved) = edited_gpkg(
+        "UPDATE rtree_stands_geom SET minx = 0, maxx = 1, miny = 0, maxy = 1 WHERE id = 2;",
+    );
+    assert_eq!(
+        ids(&read_layer_in(&moved, Some("stands"), east).unwrap()),
+        Vec::<i64>::new()
+    );
+    assert_eq!(
+        ids(&read_layer(&moved, Some("stands")).unwrap()),
+        vec![1, 2, 3]
+    );
+    // the index's boxes may be looser than the features' (f32, rounded outward): the exact
+    // boxes decide
+    let (_dir, loose) =
+        edited_gpkg("UPDATE rtree_stands_geom SET minx = 0, maxx = 1e7, miny = 0, maxy = 1e7;");
+    assert_eq!(
+        ids(&read_layer_in(&loose, Some("stands"), east).unwrap()),
+        vec![2]
+    );
+    let south = Some(rect(SOUTH.0, SOUTH.1, SOUTH.2, SOUTH.3));
+    assert_eq!(
+        ids(&read_layer_in(&loose, Some("stands"), south).unwrap()),
+        vec![1, 3]
+    );
+    // without the index the whole table is read and filtered
+    let (_dir, bare) = edited_gpkg("DROP TABLE rtree_stands_geom;");
+    assert_eq!(
+        ids(&read_layer_in(&bare, Some("stands"), east).unwrap()),
+        vec![2]
+    );
+    assert_eq!(
+        ids(&read_layer_in(&bare, Some("stands"), south).unwrap()),
+        vec![1, 3]
+    );
+}
+
+/// A site of 40 × 30 cells of 10 m with a soil map of 12 × 10 squares of 3 × 3 cells (one
+/// polygon each, in a GeoJSON layer), two of them overlapping others, released from a row.
+fn squares_site() -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let (x0, y0) = (600_000.0, 5_100_000.0);
+    let mut dem = format!(
+        "ncols 40\nnrows 30\nxllcorner {x0}\nyllcorner {y0}\ncellsize 10\nNODATA_value -9999\n"
+    );
+    for row in 0..30 {
+        let z: Vec<String> = (0..40)
+            .map(|c| format!("{}", 500.0 - 6.0 * row as f64 + 0.2 * c as f64))
+            .collect();
+        dem += &z.join(" ");
+        dem.push('\n');
+    }
+    std::fs::write(dir.path().join("dem.asc"), dem).unwrap();
+    let mut features = Vec::new();
+    let mut square = |x: f64, y: f64, side: f64, soil: u32| {
+        let ring = format!(
+            "[[{x},{y}],[{},{y}],[{},{}],[{x},{}],[{x},{y}]]",
+            x + side,
+            x + side,
+            y + side,
+            y + side
+        );
+        features.push(format!(
+            r#"{{"type":"Feature","properties":{{"soil":{soil}}},"geometry":{{"type":"Polygon","coordinates":[{ring}]}}}}"#
+        ));
+    };
+    for j in 0..10 {
+        for i in 0..12 {
+            let (x, y) = (x0 + 5.0 + 33.0 * i as f64, y0 + 2.0 + 29.0 * j as f64);
+            square(x, y, 30.0, 1 + ((i + 2 * j) % 6) as u32);
+        }
+    }
+    // two later squares over earlier ones: the later wins
+    square(x0 + 100.0, y0 + 100.0, 60.0, 7);
+    square(x0 + 300.0, y0 + 200.0, 45.0, 4);
+    let geojson = format!(
+        r#"{{"type":"FeatureCollection","crs":{{"type":"name","properties":{{"name":"urn:ogc:def:crs:EPSG::2056"}}}},"features":[{}]}}"#,
+        features.join(",")
+    );
+    std::fs::write(dir.path().join("soil.geojson"), geojson).unwrap();
+    let scenario = dir.path().join("scenario.toml");
+    std::fs::write(
+        &scenario,
+        r#"
+[terrain]
+dem = "dem.asc"
+epsg = 2056
+soiltype = { vector = "soil.geojson", field = "soil" }
+
+[rock]
+shape = "sphere"
+diameter_m = 0.8
+
+[[release.points]]
+x_m = 600205.0
+y_m = 5100255.0
+"#,
+    )
+    .unwrap();
+    (dir, scenario)
+}
+
+#[test]
+fn a_tile_burns_its_window_from_the_features_that_meet_it_as_the_region_does() {
+    let (_dir, scenario) = squares_site();
+    let whole = read_scenario(&scenario).unwrap();
+    let note = |s: &rockfall_scenario::Scenario| {
+        (s.notes.iter())
+            .find(|n| n.starts_with("vector soiltype"))
+            .cloned()
+            .unwrap()
+    };
+    assert!(
+        note(&whole).contains(": 122 features (polygons)"),
+        "{}",
+        note(&whole)
+    );
+    let region = whole.terrain.surface.soil_type.as_grid().unwrap();
+    for (col0, row0, ncols, nrows) in [(0, 0, 14, 9), (20, 12, 20, 18), (5, 20, 9, 10)] {
+        let window = Window {
+            col0,
+            row0,
+            ncols,
+            nrows,
+        };
+        let core = window;
+        let (tile, _) = read_scenario_tile(&scenario, core, window, None).unwrap();
+        let n = note(&tile);
+        let read: usize = (n.split(": ").nth(2).unwrap().split(' ').next().unwrap())
+            .parse()
+            .unwrap();
+        let layer = read_layer(&scenario.with_file_name("soil.geojson"), None).unwrap();
+        let within = Envelope::of_window(region.geometry(), &window);
+        let meeting = (layer.features.iter())
+            .filter(|f| Envelope::of_geometry(&f.geometry).is_some_and(|b| b.meets(&within)))
+            .count();
+        assert_eq!(read, meeting, "{n}");
+        assert!(
+            read < 122 / 2,
+            "a window of {ncols} × {nrows} cells read {read} squares"
+        );
+        assert!(n.contains("features meeting the tile's window"), "{n}");
+        let soil = tile.terrain.surface.soil_type.as_grid().unwrap();
+        for row in row0..row0 + nrows {
+            for col in col0..col0 + ncols {
+                assert_eq!(soil.get(row, col), region.get(row, col), "({row}, {col})");
+            }
+        }
+    }
+}
