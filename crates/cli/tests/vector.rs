@@ -340,8 +340,8 @@ fn tiles_burn_their_windows_of_each_layer_and_merge_into_the_single_run() {
 }
 
 /// A 40 × 30 grid of 10 m cells at (600000, 5100000) falling to the south, its soil types
-/// from a GeoPackage of 12 × 10 squares written by ogr2ogr (with its R-tree index), released
-/// from a band of cells in the north.
+/// from a GeoPackage of 12 × 10 squares written by ogr2ogr (with its R-tree index), a tree
+/// every 6 m × 7 m in a CSV, released from a band of cells in the north.
 fn squares_site(dir: &Path) -> Option<PathBuf> {
     let mut dem = String::from(
         "ncols 40\nnrows 30\nxllcorner 600000\nyllcorner 5100000\ncellsize 10\nNODATA_value -9999\n",
@@ -385,6 +385,17 @@ fn squares_site(dir: &Path) -> Option<PathBuf> {
     std::fs::write(dir.join("soil.geojson"), collection(squares)).unwrap();
     let band = polygon(600_020.0, 5_100_250.0, 360.0, 20.0, String::new());
     std::fs::write(dir.join("release.geojson"), collection(vec![band])).unwrap();
+    let mut trees = String::from("x_m,y_m,dbh_cm\n");
+    for k in 0..66 * 40 {
+        let (i, j) = ((k % 66) as f64, (k / 66) as f64);
+        trees += &format!(
+            "{},{},{}\n",
+            600_003.0 + 6.0 * i,
+            5_100_004.0 + 7.0 * j,
+            15 + k % 20
+        );
+    }
+    std::fs::write(dir.join("trees.csv"), trees).unwrap();
     let made = std::process::Command::new("ogr2ogr")
         .args(["-f", "GPKG", "soil.gpkg", "soil.geojson", "-nln", "soil"])
         .current_dir(dir)
@@ -398,13 +409,14 @@ fn squares_site(dir: &Path) -> Option<PathBuf> {
     let text = "[terrain]\ndem = \"dem.asc\"\nepsg = 2056\n\
                 soiltype = { vector = \"soil.gpkg\", field = \"soil\" }\n\n\
                 [rock]\nshape = \"sphere\"\ndiameter_m = 0.8\n\n\
-                [release]\ncells = \"release.geojson\"\n\n[simulation]\nrocks_per_cell = 3\n";
+                [release]\ncells = \"release.geojson\"\n\n[forest]\ntrees_csv = \"trees.csv\"\n\n\
+                [simulation]\nrocks_per_cell = 3\n";
     std::fs::write(&scenario, text).unwrap();
     Some(scenario)
 }
 
 #[test]
-fn tiles_read_a_soil_geopackage_over_their_windows_and_merge_into_the_single_run() {
+fn tiles_read_a_soil_geopackage_and_trees_over_their_windows_and_merge_into_the_single_run() {
     let dir = tempfile::tempdir().unwrap();
     let Some(scenario) = squares_site(dir.path()) else {
         eprintln!("ogr2ogr not found: skipped");

@@ -103,8 +103,9 @@ struct Resolver {
     notes: Vec<String>,
     /// Vector layers read so far, by (file, layer asked for, read for a per-cell parameter):
     /// a layer that gives several keys (a stand layer's attributes) is read and checked once.
-    /// A tile reads a per-cell parameter's layer over its window only; the same file as a
-    /// release, stems or nets is read whole (their numbering or screens span the region).
+    /// A tile reads a per-cell parameter's layer and tree points over its window only; the
+    /// same file as a release or nets is read whole (their numbering or screens span the
+    /// region).
     layers: BTreeMap<(PathBuf, Option<String>, bool), Rc<vec_io::Layer>>,
     /// Reading one spatial tile of the region: its windows.
     tile: Option<TileRead>,
@@ -183,8 +184,8 @@ impl Resolver {
         self.read_layer(param, p, layer, false)
     }
 
-    /// [`Self::layer`]; `for_cells` for a per-cell parameter's polygons, which a tile reads
-    /// over its window only ([`inputs::open_for_cells`]).
+    /// [`Self::layer`]; `for_cells` for a per-cell parameter's polygons or tree points, which
+    /// a tile reads over its window only ([`inputs::open_windowed`]).
     fn read_layer(
         &mut self,
         param: &str,
@@ -202,7 +203,7 @@ impl Resolver {
             return Ok(Rc::clone(l));
         }
         let open = match windowed {
-            true => inputs::open_for_cells,
+            true => inputs::open_windowed,
             false => inputs::open,
         };
         let l = Rc::new(open(&key.0, layer, &frame, &mut self.notes)?);
@@ -327,7 +328,7 @@ impl Resolver {
             let (p, layer) = Self::layer_ref(r).map_err(|p| {
                 self.invalid("forest.trees", format!("`{p}` is not a vector file (.geojson, .json, .shp, .gpkg); tree lists go in `trees_csv`"))
             })?;
-            let l = self.layer("forest.trees", &p, layer.as_deref())?;
+            let l = self.read_layer("forest.trees", &p, layer.as_deref(), true)?;
             let stems = inputs::stems(&l, &self.frame()?)?;
             self.notes
                 .push(inputs::describe("forest.trees", &l, stems.len(), "stems"));
@@ -342,11 +343,20 @@ impl Resolver {
                 });
             }
             self.sources.insert("forest.trees".into(), path.clone());
-            let stems = if f.treefile.is_some() {
-                trees::read_treefile(&path)?
-            } else {
-                trees::read_tree_csv(&path)?
+            let format = match f.treefile.is_some() {
+                true => trees::TreeFormat::Treefile,
+                false => trees::TreeFormat::Csv,
             };
+            // a tile holds the stems of its window only
+            let frame = self.frame()?;
+            let (stems, all) = trees::read_tree_list(&path, format, |s| frame.keeps(s.x_m, s.y_m))?;
+            if frame.window.is_some() {
+                self.notes.push(format!(
+                    "forest.trees: {}: {all} trees, {} in the tile's window",
+                    path.display(),
+                    stems.len()
+                ));
+            }
             return Ok(ForestSpec::Stems(stems));
         }
         let need = |p: Option<Param>, key: &str| {

@@ -10,28 +10,12 @@ use std::path::Path;
 /// taken in that order. `species` is a species name or code, `conifer`/`broadleaf`, or a
 /// conifer flag 1/0. A missing height comes from the DBH allometry.
 pub fn read_tree_csv(path: &Path) -> Result<Vec<Stem>, InputError> {
-    parse_tree_csv(&read_text(path)?, path)
+    Ok(read_tree_list(path, TreeFormat::Csv, |_| true)?.0)
 }
 
 /// [`read_tree_csv`] on a text already read; `path` names the source in errors.
 pub fn parse_tree_csv(text: &str, path: &Path) -> Result<Vec<Stem>, InputError> {
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let rows = split_rows(text, |l| l.split(',').map(str::trim).collect());
-    let mut rows = rows.into_iter().peekable();
-    let mut cols = Columns::positional();
-    if let Some((line, first)) = rows.peek()
-        && first.first().is_some_and(|t| t.parse::<f64>().is_err())
-    {
-        cols = Columns::from_header(first, path, *line)?;
-        rows.next();
-    }
-    let stems = rows
-        .map(|(line, fields)| cols.stem(&fields, path, line))
-        .collect::<Result<Vec<_>, _>>()?;
-    if stems.is_empty() {
-        return Err(InputError::invalid(path, "the tree list holds no tree"));
-    }
-    Ok(stems)
+    parse_list(text, path, TreeFormat::Csv)
 }
 
 /// Reads a Rockyfor3D tree file: whitespace-, tab-, comma- or semicolon-separated columns
@@ -39,40 +23,130 @@ pub fn parse_tree_csv(text: &str, path: &Path) -> Result<Vec<Stem>, InputError> 
 /// 0 broadleaf) or a species name. A first line that does not start with a number is a
 /// header and skipped. Heights come from the DBH allometry.
 pub fn read_treefile(path: &Path) -> Result<Vec<Stem>, InputError> {
-    parse_treefile(&read_text(path)?, path)
+    Ok(read_tree_list(path, TreeFormat::Treefile, |_| true)?.0)
 }
 
 /// [`read_treefile`] on a text already read; `path` names the source in errors.
 pub fn parse_treefile(text: &str, path: &Path) -> Result<Vec<Stem>, InputError> {
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let rows = split_rows(text, |l| {
-        l.split(|c: char| c.is_whitespace() || c == ',' || c == ';')
-            .filter(|t| !t.is_empty())
-            .collect()
-    });
-    let mut rows = rows.into_iter().peekable();
-    if let Some((_, first)) = rows.peek()
-        && first.first().is_some_and(|t| t.parse::<f64>().is_err())
-    {
-        rows.next();
+    parse_list(text, path, TreeFormat::Treefile)
+}
+
+/// The two tree-list formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TreeFormat {
+    /// The scenario's CSV ([`read_tree_csv`]).
+    Csv,
+    /// Rockyfor3D's tree file ([`read_treefile`]).
+    Treefile,
+}
+
+/// Reads a tree list line by line, keeping the stems `keep` accepts (a tile keeps those in its
+/// window): every row is still checked, but only the kept stems are held, so a national list
+/// need not fit in memory. Returns the kept stems, in the file's order, and the number of
+/// trees the list holds. A list without a tree is an error.
+pub fn read_tree_list(
+    path: &Path,
+    format: TreeFormat,
+    keep: impl Fn(&Stem) -> bool,
+) -> Result<(Vec<Stem>, usize), InputError> {
+    use std::io::BufRead;
+    let file = std::fs::File::open(path).map_err(|e| InputError::io(path, e))?;
+    let mut rows = Rows::new(format, path);
+    let mut kept = Vec::new();
+    for (i, line) in std::io::BufReader::new(file).lines().enumerate() {
+        let line = line.map_err(|e| InputError::io(path, e))?;
+        if let Some(stem) = rows.row(i + 1, &line)?.filter(&keep) {
+            kept.push(stem);
+        }
     }
-    let cols = Columns::positional();
-    let stems = rows
-        .map(|(line, fields)| {
-            if fields.len() > 4 {
-                return Err(row_err(
-                    path,
-                    line,
-                    format!("expected 3 or 4 columns, found {}", fields.len()),
-                ));
-            }
-            cols.stem(&fields, path, line)
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    if stems.is_empty() {
-        return Err(InputError::invalid(path, "the tree file holds no tree"));
+    Ok((kept, rows.finish()?))
+}
+
+fn parse_list(text: &str, path: &Path, format: TreeFormat) -> Result<Vec<Stem>, InputError> {
+    let mut rows = Rows::new(format, path);
+    let mut stems = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        stems.extend(rows.row(i + 1, line)?);
     }
+    rows.finish()?;
     Ok(stems)
+}
+
+/// A tree list's rows, one line at a time: the header (if any) decided on the first row, then
+/// a stem per row.
+struct Rows<'p> {
+    format: TreeFormat,
+    path: &'p Path,
+    /// The columns, once the first row has been seen.
+    cols: Option<Columns>,
+    trees: usize,
+}
+
+impl<'p> Rows<'p> {
+    fn new(format: TreeFormat, path: &'p Path) -> Self {
+        Rows {
+            format,
+            path,
+            cols: None,
+            trees: 0,
+        }
+    }
+
+    /// The stem of line `line` (1-based), `None` for a blank, comment (`#`) or header line.
+    fn row(&mut self, line: usize, text: &str) -> Result<Option<Stem>, InputError> {
+        // a leading byte-order mark, which spreadsheets write, is dropped
+        let text = match line {
+            1 => text.strip_prefix('\u{feff}').unwrap_or(text),
+            _ => text,
+        };
+        if text.trim().is_empty() || text.trim_start().starts_with('#') {
+            return Ok(None);
+        }
+        let fields: Vec<&str> = match self.format {
+            TreeFormat::Csv => text.split(',').map(str::trim).collect(),
+            TreeFormat::Treefile => text
+                .split(|c: char| c.is_whitespace() || c == ',' || c == ';')
+                .filter(|t| !t.is_empty())
+                .collect(),
+        };
+        let cols = match &self.cols {
+            Some(c) => c,
+            None => {
+                let header = fields.first().is_some_and(|t| t.parse::<f64>().is_err());
+                let cols = match (header, self.format) {
+                    (true, TreeFormat::Csv) => Columns::from_header(&fields, self.path, line)?,
+                    _ => Columns::positional(),
+                };
+                let cols = self.cols.insert(cols);
+                if header {
+                    return Ok(None);
+                }
+                cols
+            }
+        };
+        if self.format == TreeFormat::Treefile && fields.len() > 4 {
+            return Err(row_err(
+                self.path,
+                line,
+                format!("expected 3 or 4 columns, found {}", fields.len()),
+            ));
+        }
+        let stem = cols.stem(&fields, self.path, line)?;
+        self.trees += 1;
+        Ok(Some(stem))
+    }
+
+    /// The number of trees read; an error when there is none.
+    fn finish(self) -> Result<usize, InputError> {
+        let what = match self.format {
+            TreeFormat::Csv => "the tree list holds no tree",
+            TreeFormat::Treefile => "the tree file holds no tree",
+        };
+        match self.trees {
+            0 => Err(InputError::invalid(self.path, what)),
+            n => Ok(n),
+        }
+    }
 }
 
 /// Writes stems as a tree CSV with header `x_m,y_m,dbh_cm,species,height_m`, atomically.
@@ -99,24 +173,6 @@ pub fn write_treefile(path: &Path, stems: &[Stem]) -> Result<(), InputError> {
         s += &format!("{}\t{}\t{}\t{flag}\n", t.x_m, t.y_m, t.dbh_cm);
     }
     crate::write_text(path, &s)
-}
-
-/// The file's text (a leading byte-order mark, which spreadsheets write, is dropped by the
-/// parsers).
-fn read_text(path: &Path) -> Result<String, InputError> {
-    std::fs::read_to_string(path).map_err(|e| InputError::io(path, e))
-}
-
-/// Non-empty, non-comment (`#`) lines as (1-based line number, fields).
-fn split_rows<'a>(
-    text: &'a str,
-    split: impl Fn(&'a str) -> Vec<&'a str>,
-) -> Vec<(usize, Vec<&'a str>)> {
-    text.lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
-        .map(|(i, l)| (i + 1, split(l)))
-        .collect()
 }
 
 fn row_err(path: &Path, line: usize, message: String) -> InputError {

@@ -41,6 +41,24 @@ impl Window {
         row.wrapping_sub(self.row0) < self.nrows && col.wrapping_sub(self.col0) < self.ncols
     }
 
+    /// The rectangle of the window's cells (their outer edges) on grid `g`, m:
+    /// `[x_min, y_min, x_max, y_max]` (rows count from the north edge).
+    pub fn bounds_m(&self, g: &GridGeometry) -> [f64; 4] {
+        let h = g.cell_size_m;
+        [
+            g.x_min_m + self.col0 as f64 * h,
+            g.y_max_m() - (self.row0 + self.nrows) as f64 * h,
+            g.x_min_m + (self.col0 + self.ncols) as f64 * h,
+            g.y_max_m() - self.row0 as f64 * h,
+        ]
+    }
+
+    /// True when the point (x, y) (m) lies in [`Window::bounds_m`], edges included.
+    pub fn holds_point(&self, g: &GridGeometry, x_m: f64, y_m: f64) -> bool {
+        let [x0, y0, x1, y1] = self.bounds_m(g);
+        (x0..=x1).contains(&x_m) && (y0..=y1).contains(&y_m)
+    }
+
     /// The window grown by `cells` on every side, cut to a grid of `ncols × nrows`.
     pub fn grown(&self, cells: usize, ncols: usize, nrows: usize) -> Window {
         let (c0, r0) = (

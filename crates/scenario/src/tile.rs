@@ -54,8 +54,14 @@ impl Scenario {
         Ok(())
     }
 
-    /// Cuts every grid of the scenario (DEM, surface, rock, stands, nets) to `window`.
+    /// Cuts every grid of the scenario (DEM, surface, rock, stands, nets) to `window`, and
+    /// keeps the explicit stems that stand in it (a tile's rocks meet no other:
+    /// `rockfall_sim::tile::margin_cells`), in their order.
     pub fn restrict_grids(&mut self, window: &Window) -> Result<(), ScenarioError> {
+        let region = *self.terrain.dem.geometry();
+        if let Some(ForestSpec::Stems(stems)) = &mut self.forest {
+            stems.retain(|s| window.holds_point(&region, s.x_m, s.y_m));
+        }
         let dem = cut_grid(self.terrain.dem.grid(), window).ok_or_else(outside)?;
         self.terrain.dem = Dem::new(dem).map_err(|e| ScenarioError::Invalid {
             parameter: "terrain.dem".into(),

@@ -23,12 +23,12 @@ pub struct Envelope {
 impl Envelope {
     /// The rectangle of window `w`'s cells (their outer edges) on grid `g`.
     pub fn of_window(g: &GridGeometry, w: &Window) -> Envelope {
-        let h = g.cell_size_m;
+        let [x_min_m, y_min_m, x_max_m, y_max_m] = w.bounds_m(g);
         Envelope {
-            x_min_m: g.x_min_m + w.col0 as f64 * h,
-            x_max_m: g.x_min_m + (w.col0 + w.ncols) as f64 * h,
-            y_max_m: g.y_max_m() - w.row0 as f64 * h,
-            y_min_m: g.y_max_m() - (w.row0 + w.nrows) as f64 * h,
+            x_min_m,
+            y_min_m,
+            x_max_m,
+            y_max_m,
         }
     }
 

@@ -28,6 +28,18 @@ impl Frame {
         self.window.unwrap_or(Window::whole(&self.geometry))
     }
 
+    /// The rectangle of a tile's window; `None` on the whole grid.
+    pub fn envelope(&self) -> Option<Envelope> {
+        (self.window).map(|w| Envelope::of_window(&self.geometry, &w))
+    }
+
+    /// True when a point is to be kept: on a tile's frame, when it lies in the window's
+    /// rectangle (what its rocks can meet: `rockfall_sim::tile::margin_cells`); on the whole
+    /// grid, always.
+    pub fn keeps(&self, x_m: f64, y_m: f64) -> bool {
+        (self.window).is_none_or(|w| w.holds_point(&self.geometry, x_m, y_m))
+    }
+
     /// A grid of the burnt cells' `values` (row-major over [`Frame::cells`]), placed on the
     /// whole grid.
     fn grid(&self, values: Vec<Option<f64>>) -> Option<Grid<f64>> {
@@ -68,18 +80,18 @@ pub fn open(
     checked(read_layer_in(path, layer, None)?, frame, notes)
 }
 
-/// [`open`] for a layer burnt as a per-cell parameter ([`field_grid`]): on a tile's frame only
-/// the features whose bounding box meets the tile's window are read (the others burn no cell
-/// of it), so a tile of a national run does not hold a national polygon layer; on the whole
-/// grid, every feature.
-pub fn open_for_cells(
+/// [`open`] for a layer whose features matter only where they meet a tile's window — a per-cell
+/// parameter's polygons ([`field_grid`]: the others burn no cell of the window) and tree points
+/// ([`stems`]: a tile's rocks meet no stem outside it): on a tile's frame only the features
+/// whose bounding box meets the window are read, so a tile of a national run does not hold a
+/// national layer; on the whole grid, every feature.
+pub fn open_windowed(
     path: &Path,
     layer: Option<&str>,
     frame: &Frame,
     notes: &mut Vec<String>,
 ) -> Result<Layer, VectorError> {
-    let within = (frame.window).map(|w| Envelope::of_window(&frame.geometry, &w));
-    checked(read_layer_in(path, layer, within)?, frame, notes)
+    checked(read_layer_in(path, layer, frame.envelope())?, frame, notes)
 }
 
 /// Checks a layer's CRS against the DEM's (see [`open`]).
@@ -235,7 +247,9 @@ pub fn release_cells(layer: &Layer, frame: &Frame) -> Result<Vec<usize>, VectorE
     Ok(cells)
 }
 
-/// Stems from a point layer: `dbh_cm` (required), `species` and `height_m` (optional).
+/// Stems from a point layer: `dbh_cm` (required), `species` and `height_m` (optional). On a
+/// tile's frame, the stems in its window ([`Frame::keeps`]), none an error only on the whole
+/// grid.
 pub fn stems(layer: &Layer, frame: &Frame) -> Result<Vec<Stem>, VectorError> {
     let mut stems = Vec::new();
     for f in &layer.features {
@@ -258,8 +272,13 @@ pub fn stems(layer: &Layer, frame: &Frame) -> Result<Vec<Stem>, VectorError> {
         for p in points {
             let stem = crate::trees::make_stem(p[0], p[1], dbh, species.as_deref(), height)
                 .map_err(|m| VectorError::feature(layer, f.id, m))?;
-            stems.push(stem);
+            if frame.keeps(stem.x_m, stem.y_m) {
+                stems.push(stem);
+            }
         }
+    }
+    if frame.window.is_some() {
+        return Ok(stems);
     }
     let inside = stems
         .iter()

@@ -1,12 +1,15 @@
 //! What a tile reads of a polygon layer: the features whose bounding box meets its window, in
 //! the layer's order, from any format; through a GeoPackage's R-tree where it has one; and a
-//! tile's per-cell parameters burnt from them exactly as the whole region's.
+//! tile's per-cell parameters burnt from them exactly as the whole region's. Of a tree list or
+//! tree point layer: the stems in its window, in order, every row still checked.
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
 use rockfall_io::scenario_file::{read_scenario, read_scenario_tile};
+use rockfall_io::trees::{TreeFormat, read_tree_list};
 use rockfall_io::vector::{Envelope, Layer, read_layer, read_layer_in};
 use rockfall_raster::Window;
+use rockfall_scenario::{ForestSpec, Scenario};
 use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {
@@ -221,4 +224,122 @@ fn a_tile_burns_its_window_from_the_features_that_meet_it_as_the_region_does() {
             }
         }
     }
+}
+
+fn stems_of(s: &Scenario) -> Vec<(f64, f64, f64)> {
+    match &s.forest {
+        Some(ForestSpec::Stems(st)) => st.iter().map(|t| (t.x_m, t.y_m, t.dbh_cm)).collect(),
+        _ => panic!("no explicit stems"),
+    }
+}
+
+/// 400 trees on a 20 × 20 lattice over the squares site (one every 20 m from (600010,
+/// 5100010)), as a CSV, a Rockyfor3D tree file and a GeoJSON point layer.
+fn with_trees(dir: &Path) -> Vec<(f64, f64, f64)> {
+    let trees: Vec<(f64, f64, f64)> = (0..400)
+        .map(|k| {
+            let (i, j) = ((k % 20) as f64, (k / 20) as f64);
+            (
+                600_010.0 + 20.0 * i,
+                5_100_010.0 + 14.5 * j,
+                20.0 + (k % 7) as f64,
+            )
+        })
+        .collect();
+    let mut csv = String::from("# trees of the squares site\nx_m,y_m,dbh_cm\n");
+    let mut txt = String::from("x y dbh\n");
+    let mut points = Vec::new();
+    for (x, y, d) in &trees {
+        csv += &format!("{x},{y},{d}\n");
+        txt += &format!("{x}\t{y}\t{d}\n");
+        points.push(format!(
+            r#"{{"type":"Feature","properties":{{"dbh_cm":{d}}},"geometry":{{"type":"Point","coordinates":[{x},{y}]}}}}"#
+        ));
+    }
+    std::fs::write(dir.join("trees.csv"), csv).unwrap();
+    std::fs::write(dir.join("treefile.txt"), txt).unwrap();
+    let layer = format!(
+        r#"{{"type":"FeatureCollection","crs":{{"type":"name","properties":{{"name":"urn:ogc:def:crs:EPSG::2056"}}}},"features":[{}]}}"#,
+        points.join(",")
+    );
+    std::fs::write(dir.join("trees.geojson"), layer).unwrap();
+    trees
+}
+
+#[test]
+fn a_tile_holds_the_stems_of_its_window_from_a_list_or_a_layer() {
+    let (dir, scenario) = squares_site();
+    let trees = with_trees(dir.path());
+    let text = std::fs::read_to_string(&scenario).unwrap();
+    let window = Window {
+        col0: 12,
+        row0: 5,
+        ncols: 15,
+        nrows: 11,
+    };
+    // the window's rectangle: x 600120–600270, y 5100140–5100250 (rows from the north)
+    let inside: Vec<_> = (trees.iter().copied())
+        .filter(|t| {
+            (600_120.0..=600_270.0).contains(&t.0) && (5_100_140.0..=5_100_250.0).contains(&t.1)
+        })
+        .collect();
+    assert!(!inside.is_empty() && inside.len() < 100, "{}", inside.len());
+    for forest in [
+        "trees_csv = \"trees.csv\"",
+        "treefile = \"treefile.txt\"",
+        "trees = \"trees.geojson\"",
+    ] {
+        std::fs::write(&scenario, format!("{text}\n[forest]\n{forest}\n")).unwrap();
+        let whole = read_scenario(&scenario).unwrap();
+        assert_eq!(stems_of(&whole), trees, "{forest}");
+        let (tile, _) = read_scenario_tile(&scenario, window, window, None).unwrap();
+        assert_eq!(stems_of(&tile), inside, "{forest}");
+        let said = tile.notes.iter().any(|n| {
+            n.contains(&format!("400 trees, {} in the tile's window", inside.len()))
+                || n.contains(&format!("{} stems", inside.len()))
+        });
+        assert!(said, "{forest}: {:?}", tile.notes);
+        // a window without a tree is no error there
+        let empty = Window {
+            col0: 0,
+            row0: 0,
+            ncols: 1,
+            nrows: 1,
+        };
+        let (tile, _) = read_scenario_tile(&scenario, empty, empty, None).unwrap();
+        assert_eq!(stems_of(&tile), Vec::new(), "{forest}");
+    }
+}
+
+#[test]
+fn a_tree_list_read_for_a_window_still_checks_every_row() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("trees.csv");
+    std::fs::write(
+        &path,
+        "\u{feff}x_m,y_m,dbh_cm\n1,1,30\n\n# far away\n500,500,25\n2,2,40\n",
+    )
+    .unwrap();
+    let near = |s: &rockfall_forest::Stem| s.x_m < 10.0;
+    let (kept, all) = read_tree_list(&path, TreeFormat::Csv, near).unwrap();
+    assert_eq!(all, 3);
+    assert_eq!(
+        kept.iter().map(|s| s.dbh_cm).collect::<Vec<_>>(),
+        vec![30.0, 40.0]
+    );
+    // a bad row outside the window is still an error naming its line
+    std::fs::write(&path, "x_m,y_m,dbh_cm\n1,1,30\n500,500,-25\n").unwrap();
+    let e = read_tree_list(&path, TreeFormat::Csv, near)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("trees.csv") && e.contains("line 3"), "{e}");
+    // a list without a tree, or a window without one
+    std::fs::write(&path, "x y dbh\n# none\n").unwrap();
+    let e = read_tree_list(&path, TreeFormat::Treefile, |_| true)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("holds no tree"), "{e}");
+    std::fs::write(&path, "7 8 30\n9 9 35 1\n").unwrap();
+    let (kept, all) = read_tree_list(&path, TreeFormat::Treefile, |_| false).unwrap();
+    assert_eq!((kept.len(), all), (0, 2));
 }
