@@ -324,6 +324,43 @@ mod tests {
     }
 
     #[test]
+    fn blank_and_comment_lines_column_counts_and_empty_lists() {
+        let p = Path::new("trees.csv");
+        let n = |r: Result<Vec<Stem>, InputError>| r.map(|s| s.len()).map_err(|e| e.to_string());
+        // an indented comment and a line of spaces are skipped, before and after the header
+        assert_eq!(
+            n(parse_tree_csv(
+                "  # note\nx_m,y_m,dbh_cm\n  # more\n1,1,30\n   \n",
+                p
+            )),
+            Ok(1)
+        );
+        assert_eq!(
+            n(parse_treefile("  \n\t# trees\n1 1 30\n \t \n2 2 35\n", p)),
+            Ok(2)
+        );
+        // a tree file row of 5 columns names its line
+        let e = n(parse_treefile("x y dbh\n1 2 30 1\n1 2 30 1 25\n", p)).unwrap_err();
+        assert!(
+            e.contains("line 3") && e.contains("expected 3 or 4 columns, found 5"),
+            "{e}"
+        );
+        // a header alone, comments alone: no tree
+        for (csv, text) in [
+            (true, "x_m,y_m,dbh_cm\n"),
+            (false, "x y dbh\n"),
+            (true, "# x\n\n"),
+        ] {
+            let r = match csv {
+                true => parse_tree_csv(text, p),
+                false => parse_treefile(text, p),
+            };
+            let e = n(r).unwrap_err();
+            assert!(e.contains("holds no tree"), "{text:?}: {e}");
+        }
+    }
+
+    #[test]
     fn csv_with_header_in_any_order_and_without() {
         let (_d, p) = file("dbh_cm,x_m,y_m,species\n30,1,2,Abies alba\n45.5,3,4,\n");
         let s = read_tree_csv(&p).unwrap();

@@ -7,7 +7,8 @@
 
 use rockfall_io::scenario_file::{read_scenario, read_scenario_tile};
 use rockfall_io::trees::{TreeFormat, read_tree_list};
-use rockfall_io::vector::{Envelope, Layer, read_layer, read_layer_in};
+use rockfall_io::vector::inputs::{Frame, stems};
+use rockfall_io::vector::{Envelope, Layer, parse_geojson, read_layer, read_layer_in};
 use rockfall_raster::Window;
 use rockfall_scenario::{ForestSpec, Scenario};
 use std::path::{Path, PathBuf};
@@ -47,6 +48,15 @@ fn a_window_reads_the_features_that_meet_it_in_the_layers_order() {
         let whole = read_layer(&data(file), layer).unwrap();
         assert_eq!(whole.features.len(), 3, "{file}");
         assert_eq!(whole.within, None);
+        // attributes in the table's or the .dbf's field order (GeoJSON's by name)
+        for f in whole
+            .features
+            .iter()
+            .filter(|_| !file.ends_with(".geojson"))
+        {
+            let names: Vec<&str> = f.attributes.iter().map(|(n, _)| n.as_str()).collect();
+            assert_eq!(names, ["rg70", "soil", "label"], "{file}");
+        }
         for (r, expect) in [(SOUTH, vec![0, 2]), (EAST, vec![1]), (AWAY, vec![])] {
             let part = read(file, layer, r);
             let kept: Vec<_> = part.features.iter().collect();
@@ -99,6 +109,29 @@ fn a_geopackage_window_is_read_through_its_rtree_or_without_one() {
     assert_eq!(
         ids(&read_layer_in(&loose, Some("stands"), south).unwrap()),
         vec![1, 3]
+    );
+    // the index's bounds are compared axis by axis: a box east of the window (x beyond its
+    // x_max but below its y values) is not read
+    let (_dir, east_of) =
+        edited_gpkg("UPDATE rtree_stands_geom SET minx = 1000000, maxx = 1000001 WHERE id = 2;");
+    assert_eq!(
+        ids(&read_layer_in(&east_of, Some("stands"), east).unwrap()),
+        Vec::<i64>::new()
+    );
+    // a primary key that is not the rowid, rows stored against the key's order: a window
+    // keeps the whole read's order (which decides overlaps)
+    let (_dir, reordered) = edited_gpkg(
+        "CREATE TABLE s2(fid INT PRIMARY KEY NOT NULL, geom GEOMETRY, rg70 REAL, soil MEDIUMINT, label TEXT);
+         INSERT INTO s2 SELECT fid, geom, rg70, soil, label FROM stands ORDER BY fid DESC;
+         DROP TABLE stands; ALTER TABLE s2 RENAME TO stands;",
+    );
+    assert_eq!(
+        ids(&read_layer(&reordered, Some("stands")).unwrap()),
+        vec![3, 2, 1]
+    );
+    assert_eq!(
+        ids(&read_layer_in(&reordered, Some("stands"), south).unwrap()),
+        vec![3, 1]
     );
     // without the index the whole table is read and filtered
     let (_dir, bare) = edited_gpkg("DROP TABLE rtree_stands_geom;");
@@ -294,11 +327,17 @@ fn a_tile_holds_the_stems_of_its_window_from_a_list_or_a_layer() {
         assert_eq!(stems_of(&whole), trees, "{forest}");
         let (tile, _) = read_scenario_tile(&scenario, window, window, None).unwrap();
         assert_eq!(stems_of(&tile), inside, "{forest}");
+        // a list counts all its trees; a point layer is read over the window only
         let said = tile.notes.iter().any(|n| {
             n.contains(&format!("400 trees, {} in the tile's window", inside.len()))
-                || n.contains(&format!("{} stems", inside.len()))
+                || (n.contains(" features meeting the tile's window (points)")
+                    && n.contains(&format!(", {} stems", inside.len())))
         });
         assert!(said, "{forest}: {:?}", tile.notes);
+        // the scenario read whole and cut to the tile holds the same stems
+        let mut cut = whole;
+        cut.cut_to_tile(window, window).unwrap();
+        assert_eq!(stems_of(&cut), inside, "{forest}");
         // a window without a tree is no error there
         let empty = Window {
             col0: 0,
@@ -342,4 +381,71 @@ fn a_tree_list_read_for_a_window_still_checks_every_row() {
     std::fs::write(&path, "7 8 30\n9 9 35 1\n").unwrap();
     let (kept, all) = read_tree_list(&path, TreeFormat::Treefile, |_| false).unwrap();
     assert_eq!((kept.len(), all), (0, 2));
+}
+
+#[test]
+fn a_multipoint_across_a_window_keeps_its_points_inside() {
+    let g = rockfall_raster::GridGeometry {
+        ncols: 10,
+        nrows: 10,
+        x_min_m: 0.0,
+        y_min_m: 0.0,
+        cell_size_m: 10.0,
+    };
+    let west_half = Window {
+        col0: 0,
+        row0: 0,
+        ncols: 5,
+        nrows: 10,
+    };
+    let frame = Frame {
+        geometry: g,
+        crs: None,
+        window: Some(west_half),
+    };
+    let text = r#"{"type":"FeatureCollection","features":[{"type":"Feature","properties":{"dbh_cm":30},"geometry":{"type":"MultiPoint","coordinates":[[10,10],[90,10],[50,95]]}}]}"#;
+    let layer = parse_geojson(text.as_bytes(), Path::new("trees.geojson")).unwrap();
+    let kept = stems(&layer, &frame).unwrap();
+    assert_eq!(
+        kept.iter().map(|s| (s.x_m, s.y_m)).collect::<Vec<_>>(),
+        [(10.0, 10.0), (50.0, 95.0)]
+    );
+}
+
+#[test]
+fn a_layer_for_a_key_and_the_release_numbers_the_regions_sources() {
+    // the squares give both a per-cell key (read over the window) and the release (read
+    // whole: a tile's sources keep their numbers among the region's)
+    let (_dir, scenario) = squares_site();
+    let text = std::fs::read_to_string(&scenario).unwrap();
+    let text = text.replace(
+        "[[release.points]]\nx_m = 600205.0\ny_m = 5100255.0\n",
+        "[release]\ncells = \"soil.geojson\"\n",
+    );
+    let text = text.replace("soiltype = {", "rg70_m = {");
+    assert!(
+        text.contains("cells = \"soil.geojson\"") && text.contains("rg70_m"),
+        "{text}"
+    );
+    std::fs::write(&scenario, text).unwrap();
+    let core = Window {
+        col0: 14,
+        row0: 7,
+        ncols: 11,
+        nrows: 7,
+    };
+    let window = Window {
+        col0: 12,
+        row0: 5,
+        ncols: 15,
+        nrows: 11,
+    };
+    let mut whole = read_scenario(&scenario).unwrap();
+    whole.cut_to_tile(core, window).unwrap();
+    let (tile, _) = read_scenario_tile(&scenario, core, window, None).unwrap();
+    assert!(!tile.release.cells.is_empty());
+    assert_eq!(whole.release.cells, tile.release.cells);
+    let (a, b) = (whole.tile.as_ref().unwrap(), tile.tile.as_ref().unwrap());
+    assert_eq!(a.region_source_cells, b.region_source_cells);
+    assert_eq!(a.ordinals, b.ordinals);
 }

@@ -89,3 +89,44 @@ impl Window {
                 .is_some_and(|e| e <= nrows)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_windows_rectangle_spans_its_cells_and_holds_its_edges() {
+        let g = GridGeometry {
+            ncols: 10,
+            nrows: 8,
+            x_min_m: 100.0,
+            y_min_m: 200.0,
+            cell_size_m: 5.0,
+        };
+        let w = Window {
+            col0: 2,
+            row0: 1,
+            ncols: 3,
+            nrows: 4,
+        };
+        // columns 2–4 and rows 1–4 counted from the north edge (y 240)
+        assert_eq!(w.bounds_m(&g), [110.0, 215.0, 125.0, 235.0]);
+        for (x, y) in [
+            (110.0, 220.0),
+            (125.0, 220.0),
+            (115.0, 215.0),
+            (115.0, 235.0),
+        ] {
+            assert!(w.holds_point(&g, x, y), "({x}, {y})");
+        }
+        for (x, y) in [
+            (109.9, 220.0),
+            (125.1, 220.0),
+            (115.0, 214.9),
+            (115.0, 235.1),
+        ] {
+            assert!(!w.holds_point(&g, x, y), "({x}, {y})");
+        }
+        assert_eq!(Window::whole(&g).bounds_m(&g), [100.0, 200.0, 150.0, 240.0]);
+    }
+}

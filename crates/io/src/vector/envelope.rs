@@ -140,5 +140,19 @@ mod tests {
         keep_meeting(&mut fs, &within);
         let ids: Vec<i64> = fs.iter().map(|f| f.id).collect();
         assert_eq!(ids, vec![2, 3, 6, 7]);
+        // a point on any edge or corner meets the rectangle; just outside, not
+        let point = |x: f64, y: f64| Envelope::of_geometry(&Geometry::Points(vec![[x, y]]));
+        for (x, y) in [
+            (0.0, 5.0),
+            (10.0, 5.0),
+            (5.0, 0.0),
+            (5.0, 10.0),
+            (10.0, 10.0),
+        ] {
+            assert!(point(x, y).is_some_and(|b| b.meets(&within)), "({x}, {y})");
+        }
+        for (x, y) in [(-0.01, 5.0), (10.01, 5.0), (5.0, -0.01), (5.0, 10.01)] {
+            assert!(point(x, y).is_some_and(|b| !b.meets(&within)), "({x}, {y})");
+        }
     }
 }

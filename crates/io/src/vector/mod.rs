@@ -78,7 +78,8 @@ pub struct Feature {
     pub id: i64,
     /// Its geometry.
     pub geometry: Geometry,
-    /// Attributes by name, in the layer's order.
+    /// Attributes by name: in the layer's field order for a GeoPackage or Shapefile, by name
+    /// for a GeoJSON feature.
     pub attributes: Vec<(String, Value)>,
 }
 
