@@ -34,21 +34,32 @@ lines = "nets.geojson"
 rocks_per_cell = 4
 "#;
 
+/// Writes `dir/dem.asc`: `ncols × nrows` cells of 10 m with the lower-left corner at
+/// (`xll`, `yll`), elevation `z(row, col)` with rows from the north.
+fn write_dem(
+    dir: &Path,
+    (ncols, nrows): (usize, usize),
+    (xll, yll): (u32, u32),
+    z: impl Fn(usize, usize) -> f64,
+) {
+    let mut dem = format!(
+        "ncols {ncols}\nnrows {nrows}\nxllcorner {xll}\nyllcorner {yll}\ncellsize 10\nNODATA_value -9999\n"
+    );
+    for row in 0..nrows {
+        let line: Vec<String> = (0..ncols).map(|c| format!("{}", z(row, c))).collect();
+        dem += &line.join(" ");
+        dem.push('\n');
+    }
+    std::fs::write(dir.join("dem.asc"), dem).unwrap();
+}
+
 /// A site folder: a 12 × 10 DEM of 10 m cells falling to the south, the vector fixtures and
 /// `scenario.toml` with `SCENARIO` edited by `edit`.
 fn site(edit: impl Fn(String) -> String) -> (tempfile::TempDir, PathBuf) {
     let dir = tempfile::tempdir().unwrap();
-    let mut dem = String::from(
-        "ncols 12\nnrows 10\nxllcorner 900000\nyllcorner 6400000\ncellsize 10\nNODATA_value -9999\n",
-    );
-    for row in 0..10 {
-        let z: Vec<String> = (0..12)
-            .map(|c| format!("{}", 200.0 - 7.0 * row as f64 + 0.3 * c as f64))
-            .collect();
-        dem += &z.join(" ");
-        dem.push('\n');
-    }
-    std::fs::write(dir.path().join("dem.asc"), dem).unwrap();
+    write_dem(dir.path(), (12, 10), (900_000, 6_400_000), |row, c| {
+        200.0 - 7.0 * row as f64 + 0.3 * c as f64
+    });
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../io/tests/data/vector");
     for e in std::fs::read_dir(&data).unwrap() {
         let p = e.unwrap().path();
@@ -343,17 +354,9 @@ fn tiles_burn_their_windows_of_each_layer_and_merge_into_the_single_run() {
 /// from a GeoPackage of 12 × 10 squares written by ogr2ogr (with its R-tree index), a tree
 /// every 6 m × 7 m in a CSV, released from a band of cells in the north.
 fn squares_site(dir: &Path) -> Option<PathBuf> {
-    let mut dem = String::from(
-        "ncols 40\nnrows 30\nxllcorner 600000\nyllcorner 5100000\ncellsize 10\nNODATA_value -9999\n",
-    );
-    for row in 0..30 {
-        let z: Vec<String> = (0..40)
-            .map(|c| format!("{}", 500.0 - 6.0 * row as f64 + 0.2 * c as f64))
-            .collect();
-        dem += &z.join(" ");
-        dem.push('\n');
-    }
-    std::fs::write(dir.join("dem.asc"), dem).unwrap();
+    write_dem(dir, (40, 30), (600_000, 5_100_000), |row, c| {
+        500.0 - 6.0 * row as f64 + 0.2 * c as f64
+    });
     let polygon = |x: f64, y: f64, w: f64, h: f64, props: String| {
         format!(
             r#"{{"type":"Feature","properties":{{{props}}},"geometry":{{"type":"Polygon","coordinates":[[[{x},{y}],[{},{y}],[{},{}],[{x},{}],[{x},{y}]]]}}}}"#,

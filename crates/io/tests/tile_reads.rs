@@ -259,6 +259,15 @@ fn a_tile_burns_its_window_from_the_features_that_meet_it_as_the_region_does() {
     }
 }
 
+/// A tile's window on the squares site: columns 12–26, rows 5–15 (x 600120–600270, y
+/// 5100140–5100250).
+const WINDOW: Window = Window {
+    col0: 12,
+    row0: 5,
+    ncols: 15,
+    nrows: 11,
+};
+
 fn stems_of(s: &Scenario) -> Vec<(f64, f64, f64)> {
     match &s.forest {
         Some(ForestSpec::Stems(st)) => st.iter().map(|t| (t.x_m, t.y_m, t.dbh_cm)).collect(),
@@ -304,12 +313,7 @@ fn a_tile_holds_the_stems_of_its_window_from_a_list_or_a_layer() {
     let (dir, scenario) = squares_site();
     let trees = with_trees(dir.path());
     let text = std::fs::read_to_string(&scenario).unwrap();
-    let window = Window {
-        col0: 12,
-        row0: 5,
-        ncols: 15,
-        nrows: 11,
-    };
+    let window = WINDOW;
     // the window's rectangle: x 600120–600270, y 5100140–5100250 (rows from the north)
     let inside: Vec<_> = (trees.iter().copied())
         .filter(|t| {
@@ -434,12 +438,7 @@ fn a_layer_for_a_key_and_the_release_numbers_the_regions_sources() {
         ncols: 11,
         nrows: 7,
     };
-    let window = Window {
-        col0: 12,
-        row0: 5,
-        ncols: 15,
-        nrows: 11,
-    };
+    let window = WINDOW;
     let mut whole = read_scenario(&scenario).unwrap();
     whole.cut_to_tile(core, window).unwrap();
     let (tile, _) = read_scenario_tile(&scenario, core, window, None).unwrap();

@@ -69,13 +69,6 @@ pub(super) fn read(
         .map_err(sql)?;
     let indexed = within.zip(pk.as_ref()).and_then(|(e, pk)| {
         let rtree = format!("rtree_{table}_{column}");
-        let exists = db
-            .query_row(
-                "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?1",
-                [&rtree],
-                |r| r.get::<_, i64>(0),
-            )
-            .is_ok_and(|n| n > 0);
         // the index's boxes are rounded outward to f32: a superset of the exact test
         let query = format!(
             "SELECT * FROM {} WHERE {} IN (SELECT id FROM {} WHERE minx <= ?3 AND maxx >= ?1 AND miny <= ?4 AND maxy >= ?2) ORDER BY rowid",
@@ -83,7 +76,8 @@ pub(super) fn read(
             quoted(pk),
             quoted(&rtree)
         );
-        let stmt = exists.then(|| db.prepare(&query).ok()).flatten()?;
+        // no index table (or no R-tree module): the query does not prepare
+        let stmt = db.prepare(&query).ok()?;
         Some((stmt, [e.x_min_m, e.y_min_m, e.x_max_m, e.y_max_m]))
     });
     // without an index (or SQLite's R-tree module), the whole table in its order
