@@ -104,8 +104,8 @@ struct Resolver {
     /// Vector layers read so far, by (file, layer asked for, read for a per-cell parameter):
     /// a layer that gives several keys (a stand layer's attributes) is read and checked once.
     /// A tile reads a per-cell parameter's layer and tree points over its window only; the
-    /// same file as a release or nets is read whole (their numbering or screens span the
-    /// region).
+    /// same file as nets is read whole (their numbering and screens span the region), as a
+    /// release is without the tile index's counts (`tile_release.rs`).
     layers: BTreeMap<(PathBuf, Option<String>, bool), Rc<vec_io::Layer>>,
     /// Reading one spatial tile of the region: its windows.
     tile: Option<TileRead>,

@@ -12,6 +12,7 @@ use rockfall_io::vector::{Envelope, Layer, parse_geojson, read_layer, read_layer
 use rockfall_raster::Window;
 use rockfall_scenario::{ForestSpec, Scenario};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -416,11 +417,9 @@ fn a_multipoint_across_a_window_keeps_its_points_inside() {
     );
 }
 
-#[test]
-fn a_layer_for_a_key_and_the_release_numbers_the_regions_sources() {
-    // the squares give both a per-cell key (read over the window) and the release (read
-    // whole: a tile's sources keep their numbers among the region's)
-    let (_dir, scenario) = squares_site();
+/// The squares site released from its squares, which also give `rg70_m`.
+fn squares_release_site() -> (tempfile::TempDir, PathBuf) {
+    let (dir, scenario) = squares_site();
     let text = std::fs::read_to_string(&scenario).unwrap();
     let text = text.replace(
         "[[release.points]]\nx_m = 600205.0\ny_m = 5100255.0\n",
@@ -432,6 +431,14 @@ fn a_layer_for_a_key_and_the_release_numbers_the_regions_sources() {
         "{text}"
     );
     std::fs::write(&scenario, text).unwrap();
+    (dir, scenario)
+}
+
+#[test]
+fn a_layer_for_a_key_and_the_release_numbers_the_regions_sources() {
+    // the squares give both a per-cell key (read over the window) and the release (read
+    // whole without a tile index: a tile's sources keep their numbers among the region's)
+    let (_dir, scenario) = squares_release_site();
     let core = Window {
         col0: 14,
         row0: 7,
@@ -446,5 +453,93 @@ fn a_layer_for_a_key_and_the_release_numbers_the_regions_sources() {
     assert_eq!(whole.release.cells, tile.release.cells);
     let (a, b) = (whole.tile.as_ref().unwrap(), tile.tile.as_ref().unwrap());
     assert_eq!(a.region_source_cells, b.region_source_cells);
+    assert_eq!(a.ordinals, b.ordinals);
+}
+
+/// The note of `rockfall check` on a scenario's release layer.
+fn release_note(s: &Scenario) -> String {
+    (s.notes.iter())
+        .find(|n| n.starts_with("vector release.cells"))
+        .cloned()
+        .unwrap()
+}
+
+#[test]
+fn with_the_index_a_tile_reads_the_release_polygons_of_its_rows_only() {
+    let (_dir, scenario) = squares_release_site();
+    let layer = read_layer(&scenario.with_file_name("soil.geojson"), None).unwrap();
+    let g = *read_scenario(&scenario).unwrap().terrain.dem.geometry();
+    for (col0, row0, ncols, nrows) in [(14, 7, 11, 7), (0, 0, 14, 9), (20, 22, 20, 8)] {
+        let core = Window {
+            col0,
+            row0,
+            ncols,
+            nrows,
+        };
+        let window = Window {
+            col0: col0.saturating_sub(2),
+            row0: row0.saturating_sub(2),
+            ncols: (col0 + ncols + 2).min(40) - col0.saturating_sub(2),
+            nrows: (row0 + nrows + 2).min(30) - row0.saturating_sub(2),
+        };
+        let (whole, counts) = read_scenario_tile(&scenario, core, window, None).unwrap();
+        assert!(
+            release_note(&whole).contains(": 122 features (polygons)"),
+            "{}",
+            release_note(&whole)
+        );
+        let counts = Arc::new(counts.unwrap());
+        let (tile, built) = read_scenario_tile(&scenario, core, window, Some(counts)).unwrap();
+        assert!(built.is_none(), "the index's counts were used");
+        assert!(!tile.release.cells.is_empty());
+        assert_eq!(whole.release.cells, tile.release.cells);
+        let (a, b) = (whole.tile.as_ref().unwrap(), tile.tile.as_ref().unwrap());
+        assert_eq!(a.region_source_cells, b.region_source_cells);
+        assert_eq!(a.ordinals, b.ordinals);
+        // the polygons meeting the core's rows from the grid's first column (its block)
+        let rows = Envelope::of_window(
+            &g,
+            &Window {
+                col0: 0,
+                ncols: col0 + ncols,
+                ..core
+            },
+        );
+        let meeting = (layer.features.iter())
+            .filter(|f| Envelope::of_geometry(&f.geometry).is_some_and(|b| b.meets(&rows)))
+            .count();
+        let n = release_note(&tile);
+        assert!(meeting < 122 / 2, "{meeting}");
+        assert!(
+            n.contains(&format!(": {meeting} features meeting the tile's window")),
+            "{n}"
+        );
+    }
+}
+
+#[test]
+fn counts_of_another_file_have_a_tile_read_its_release_whole() {
+    let (dir, scenario) = squares_release_site();
+    let core = Window {
+        col0: 14,
+        row0: 7,
+        ncols: 11,
+        nrows: 7,
+    };
+    let (expected, counts) = read_scenario_tile(&scenario, core, WINDOW, None).unwrap();
+    // the same squares under another name: their counts are of another file
+    std::fs::copy(
+        dir.path().join("soil.geojson"),
+        dir.path().join("other.geojson"),
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(&scenario).unwrap();
+    let other = dir.path().join("other.toml");
+    std::fs::write(&other, text.replace("cells = \"soil", "cells = \"other")).unwrap();
+    let (tile, built) = read_scenario_tile(&other, core, WINDOW, counts.map(Arc::new)).unwrap();
+    assert!(built.is_some(), "counted again");
+    assert!(release_note(&tile).contains(": 122 features (polygons)"));
+    assert_eq!(expected.release.cells, tile.release.cells);
+    let (a, b) = (expected.tile.as_ref().unwrap(), tile.tile.as_ref().unwrap());
     assert_eq!(a.ordinals, b.ordinals);
 }

@@ -17,20 +17,19 @@ impl Resolver {
     ) -> Result<Release, InputError> {
         let cells = match r.cells.map(Self::layer_ref) {
             None => Vec::new(),
+            Some(Ok((p, layer))) if self.tile.is_some() => {
+                self.release_layer_cells(&p, layer.as_deref(), terrain)?
+            }
             Some(Ok((p, layer))) => {
                 let l = self.layer("release.cells", &p, layer.as_deref())?;
-                if self.tile.is_some() {
-                    self.release_layer_cells(&l, &p, terrain)?
-                } else {
-                    let cells = inputs::release_cells(&l, &self.frame()?)?;
-                    self.notes.push(inputs::describe(
-                        "release.cells",
-                        &l,
-                        cells.len(),
-                        "cells covered",
-                    ));
-                    cells
-                }
+                let cells = inputs::release_cells(&l, &self.frame()?)?;
+                self.notes.push(inputs::describe(
+                    "release.cells",
+                    &l,
+                    cells.len(),
+                    "cells covered",
+                ));
+                cells
             }
             Some(Err(p)) if self.tile.is_some() => self.scan_release(&p, terrain)?,
             Some(Err(p)) => {

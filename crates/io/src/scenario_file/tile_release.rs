@@ -5,14 +5,20 @@
 use super::Resolver;
 use crate::InputError;
 use crate::tile_index::{BLOCK_COLS, FileStamp, ReleaseCounts};
-use crate::vector::{Layer, inputs};
+use crate::vector::Layer;
+use crate::vector::inputs::{self, Frame};
 use rockfall_raster::{GridGeometry, Window};
 use rockfall_terrain::Terrain;
 use std::path::Path;
+use std::rc::Rc;
+use std::sync::Arc;
 
 /// Source cells with their numbers among the region's, as (region's count, cells of the
 /// core, their numbers).
 type Found = (u64, Vec<usize>, Vec<u64>);
+
+/// A release layer's polygons near a tile's core, and the tile index's counts of the layer.
+type Near = (Rc<Layer>, Arc<ReleaseCounts>);
 
 impl Resolver {
     /// A tile's source cells from the release raster `p`, each with its number among the
@@ -51,32 +57,38 @@ impl Resolver {
         Ok(self.found(found))
     }
 
-    /// A tile's source cells from the release layer `l` (read from `p`), each with its
-    /// number among the region's: the polygons burnt over the rows of the core only when the
-    /// tile index has this layer's counts, otherwise over the whole region, counted for an
-    /// index.
+    /// A tile's source cells from the release layer `layer` of `p`, each with its number
+    /// among the region's. When the tile index has this layer's counts, only the polygons
+    /// meeting the core's rows (its [`block_window`]) are read — from a GeoPackage's R-tree
+    /// alone when it has one — and burnt there; otherwise the whole layer is read and burnt
+    /// over the whole region, and counted for an index.
     pub(super) fn release_layer_cells(
         &mut self,
-        l: &Layer,
         p: &str,
+        layer: Option<&str>,
         terrain: &Terrain,
     ) -> Result<Vec<usize>, InputError> {
         let path = self.path(p);
         let g = *terrain.dem.geometry();
         let stamp = FileStamp::of(&path).map_err(|e| InputError::io(&path, e))?;
-        let mut frame = self.frame()?;
         let core = self.core();
-        let found = match self.usable_counts(&stamp, &l.name, &g, &path)? {
+        let mut near = self.frame()?;
+        near.window = Some(block_window(core));
+        let (l, counts) = match self.near_release(&path, layer, &near, &stamp)? {
+            Some((l, c)) => (l, Some(c)),
+            None => (self.layer("release.cells", p, layer)?, None),
+        };
+        let found = match counts {
             Some(c) => {
-                frame.window = Some(block_window(core));
-                let burnt = inputs::release_cells(l, &frame)?;
+                let burnt = inputs::release_cells(&l, &near)?;
                 let sources = burnt.iter().map(|&c| g.row_col(c));
                 let (cells, ordinals) = number_core(&path, &g, core, sources, &c)?;
                 (c.total(), cells, ordinals)
             }
             None => {
+                let mut frame = near;
                 frame.window = None;
-                let all = inputs::release_cells(l, &frame)?;
+                let all = inputs::release_cells(&l, &frame)?;
                 let mut counts = ReleaseCounts::start(stamp, &l.name, &g);
                 let (mut cells, mut ordinals) = (Vec::new(), Vec::new());
                 for (k, &c) in all.iter().enumerate() {
@@ -93,11 +105,38 @@ impl Resolver {
         };
         self.notes.push(inputs::describe(
             "release.cells",
-            l,
+            &l,
             found.1.len(),
             "cells covered in the tile",
         ));
         Ok(self.found(found))
+    }
+
+    /// The release layer's polygons meeting the frame `near` (the core's rows) and the tile
+    /// index's counts, when the index has counts of this file (`stamp`), layer and grid;
+    /// `None` (nothing read) when it has none of this file, or other counts.
+    fn near_release(
+        &mut self,
+        path: &Path,
+        layer: Option<&str>,
+        near: &Frame,
+        stamp: &FileStamp,
+    ) -> Result<Option<Near>, InputError> {
+        let of_file = (self.tile.as_ref())
+            .and_then(|t| t.counts.as_ref())
+            .is_some_and(|c| c.stamp == *stamp);
+        if !of_file {
+            return Ok(None);
+        }
+        self.sources
+            .insert("release.cells".into(), path.to_path_buf());
+        let mut notes = Vec::new();
+        let l = inputs::open_windowed(path, layer, near, &mut notes)?;
+        let Some(c) = self.usable_counts(stamp, &l.name, &near.geometry, path)? else {
+            return Ok(None);
+        };
+        self.notes.append(&mut notes);
+        Ok(Some((Rc::new(l), c)))
     }
 
     /// The tile's core (the whole grid when reading no tile).
@@ -119,7 +158,7 @@ impl Resolver {
         layer: &str,
         g: &GridGeometry,
         path: &Path,
-    ) -> Result<Option<std::sync::Arc<ReleaseCounts>>, InputError> {
+    ) -> Result<Option<Arc<ReleaseCounts>>, InputError> {
         let Some(t) = self.tile.as_ref() else {
             return Ok(None);
         };
