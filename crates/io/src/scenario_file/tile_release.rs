@@ -114,7 +114,8 @@ impl Resolver {
 
     /// The release layer's polygons meeting the frame `near` (the core's rows) and the tile
     /// index's counts, when the index has counts of this file (`stamp`), layer and grid;
-    /// `None` (nothing read) when it has none of this file, or other counts.
+    /// `None` when it has no counts of this file (nothing read), or counts of this file's
+    /// other layer or of another grid (the polygons read are dropped).
     fn near_release(
         &mut self,
         path: &Path,
