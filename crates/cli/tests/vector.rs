@@ -326,28 +326,43 @@ fn tiles_burn_their_windows_of_each_layer_and_merge_into_the_single_run() {
     run(&["--tiles", "4", "--halo-m", "40"], &all);
     common::same_outputs(&single, &all);
     // tiles as separate runs with an index file: the first burns the release layer over
-    // the region and writes the counts, the others burn their own rows only
-    let index = dir.path().join("region.index");
-    let mut dirs = Vec::new();
-    for i in 1..=4 {
-        let d = dir.path().join(format!("t{i}"));
-        let tile = format!("{i}/4");
-        let extra = ["--tile", &tile, "--halo-m", "40", "--tile-index", s(&index)];
-        run(&extra, &d);
-        dirs.push(d);
-    }
+    // the region and writes the counts, the others read and burn the polygons of their own
+    // rows only
+    let dirs = four_tiles(dir.path(), run);
     // a tile's layers were burnt over less than the grid (12 × 10 cells)
     let first = json(&dirs[0].join("tile.json"));
     assert_eq!(
         first["passes"][0]["window"],
         serde_json::json!([0, 0, 10, 9])
     );
-    let merged = dir.path().join("merged");
+    merge_as_single(dir.path(), &dirs, &single);
+}
+
+/// Runs tiles 1/4 to 4/4 (halo 40 m) as separate runs with `run` into `dir`/t1 … t4, with a
+/// tile index file `dir`/region.index, which the first writes; their folders.
+fn four_tiles(dir: &Path, run: impl Fn(&[&str], &Path) -> String) -> Vec<PathBuf> {
+    let index = dir.join("region.index");
+    let mut dirs = Vec::new();
+    for i in 1..=4 {
+        let d = dir.join(format!("t{i}"));
+        let tile = format!("{i}/4");
+        run(
+            &["--tile", &tile, "--halo-m", "40", "--tile-index", s(&index)],
+            &d,
+        );
+        dirs.push(d);
+    }
+    dirs
+}
+
+/// Merges the tiles' folders `dirs` into `dir`/merged and asserts it equals the run `single`.
+fn merge_as_single(dir: &Path, dirs: &[PathBuf], single: &Path) {
+    let merged = dir.join("merged");
     let mut args = vec!["merge"];
     args.extend(dirs.iter().map(|d| s(d)));
     args.extend(["--out", s(&merged)]);
     ok(rockfall(&args));
-    common::same_outputs(&single, &merged);
+    common::same_outputs(single, &merged);
 }
 
 /// A 40 × 30 grid of 10 m cells at (600000, 5100000) falling to the south, its soil types
@@ -437,25 +452,10 @@ fn tiles_read_a_soil_geopackage_and_trees_over_their_windows_and_merge_into_the_
     };
     let single = dir.path().join("single");
     run(&[], &single);
-    let index = dir.path().join("region.index");
-    let mut dirs = Vec::new();
-    for i in 1..=4 {
-        let d = dir.path().join(format!("t{i}"));
-        let tile = format!("{i}/4");
-        run(
-            &["--tile", &tile, "--halo-m", "40", "--tile-index", s(&index)],
-            &d,
-        );
-        dirs.push(d);
-    }
+    let dirs = four_tiles(dir.path(), run);
     // the first pass of a tile reads less than the grid (40 × 30 cells)
     let first = json(&dirs[0].join("tile.json"));
     let window = &first["passes"][0]["window"];
     assert!(window[2].as_u64().unwrap() < 40, "{window}");
-    let merged = dir.path().join("merged");
-    let mut args = vec!["merge"];
-    args.extend(dirs.iter().map(|d| s(d)));
-    args.extend(["--out", s(&merged)]);
-    ok(rockfall(&args));
-    common::same_outputs(&single, &merged);
+    merge_as_single(dir.path(), &dirs, &single);
 }

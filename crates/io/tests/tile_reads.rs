@@ -35,6 +35,16 @@ const SOUTH: (f64, f64, f64, f64) = (900_000.0, 6_400_000.0, 900_120.0, 6_400_05
 const EAST: (f64, f64, f64, f64) = (900_100.0, 6_400_000.0, 900_120.0, 6_400_100.0);
 const AWAY: (f64, f64, f64, f64) = (800_000.0, 6_300_000.0, 800_100.0, 6_300_100.0);
 
+/// The window of `ncols` × `nrows` cells from column `col0`, row `row0`.
+const fn win(col0: usize, row0: usize, ncols: usize, nrows: usize) -> Window {
+    Window {
+        col0,
+        row0,
+        ncols,
+        nrows,
+    }
+}
+
 fn read(file: &str, layer: Option<&str>, r: (f64, f64, f64, f64)) -> Layer {
     read_layer_in(&data(file), layer, Some(rect(r.0, r.1, r.2, r.3))).unwrap()
 }
@@ -228,12 +238,7 @@ fn a_tile_burns_its_window_from_the_features_that_meet_it_as_the_region_does() {
     );
     let region = whole.terrain.surface.soil_type.as_grid().unwrap();
     for (col0, row0, ncols, nrows) in [(0, 0, 14, 9), (20, 12, 20, 18), (5, 20, 9, 10)] {
-        let window = Window {
-            col0,
-            row0,
-            ncols,
-            nrows,
-        };
+        let window = win(col0, row0, ncols, nrows);
         let core = window;
         let (tile, _) = read_scenario_tile(&scenario, core, window, None).unwrap();
         let n = note(&tile);
@@ -262,12 +267,7 @@ fn a_tile_burns_its_window_from_the_features_that_meet_it_as_the_region_does() {
 
 /// A tile's window on the squares site: columns 12–26, rows 5–15 (x 600120–600270, y
 /// 5100140–5100250).
-const WINDOW: Window = Window {
-    col0: 12,
-    row0: 5,
-    ncols: 15,
-    nrows: 11,
-};
+const WINDOW: Window = win(12, 5, 15, 11);
 
 fn stems_of(s: &Scenario) -> Vec<(f64, f64, f64)> {
     match &s.forest {
@@ -344,12 +344,7 @@ fn a_tile_holds_the_stems_of_its_window_from_a_list_or_a_layer() {
         cut.cut_to_tile(window, window).unwrap();
         assert_eq!(stems_of(&cut), inside, "{forest}");
         // a window without a tree is no error there
-        let empty = Window {
-            col0: 0,
-            row0: 0,
-            ncols: 1,
-            nrows: 1,
-        };
+        let empty = win(0, 0, 1, 1);
         let (tile, _) = read_scenario_tile(&scenario, empty, empty, None).unwrap();
         assert_eq!(stems_of(&tile), Vec::new(), "{forest}");
     }
@@ -397,12 +392,7 @@ fn a_multipoint_across_a_window_keeps_its_points_inside() {
         y_min_m: 0.0,
         cell_size_m: 10.0,
     };
-    let west_half = Window {
-        col0: 0,
-        row0: 0,
-        ncols: 5,
-        nrows: 10,
-    };
+    let west_half = win(0, 0, 5, 10);
     let frame = Frame {
         geometry: g,
         crs: None,
@@ -439,19 +429,20 @@ fn a_layer_for_a_key_and_the_release_numbers_the_regions_sources() {
     // the squares give both a per-cell key (read over the window) and the release (read
     // whole without a tile index: a tile's sources keep their numbers among the region's)
     let (_dir, scenario) = squares_release_site();
-    let core = Window {
-        col0: 14,
-        row0: 7,
-        ncols: 11,
-        nrows: 7,
-    };
+    let core = win(14, 7, 11, 7);
     let window = WINDOW;
     let mut whole = read_scenario(&scenario).unwrap();
     whole.cut_to_tile(core, window).unwrap();
     let (tile, _) = read_scenario_tile(&scenario, core, window, None).unwrap();
+    same_sources(&whole, &tile);
+}
+
+/// Asserts two reads of one tile release the same (non-empty) source cells, numbered alike
+/// among the same count of the region's.
+fn same_sources(expected: &Scenario, tile: &Scenario) {
     assert!(!tile.release.cells.is_empty());
-    assert_eq!(whole.release.cells, tile.release.cells);
-    let (a, b) = (whole.tile.as_ref().unwrap(), tile.tile.as_ref().unwrap());
+    assert_eq!(expected.release.cells, tile.release.cells);
+    let (a, b) = (expected.tile.as_ref().unwrap(), tile.tile.as_ref().unwrap());
     assert_eq!(a.region_source_cells, b.region_source_cells);
     assert_eq!(a.ordinals, b.ordinals);
 }
@@ -470,18 +461,8 @@ fn with_the_index_a_tile_reads_the_release_polygons_of_its_rows_only() {
     let layer = read_layer(&scenario.with_file_name("soil.geojson"), None).unwrap();
     let g = *read_scenario(&scenario).unwrap().terrain.dem.geometry();
     for (col0, row0, ncols, nrows) in [(14, 7, 11, 7), (0, 0, 14, 9), (20, 22, 20, 8)] {
-        let core = Window {
-            col0,
-            row0,
-            ncols,
-            nrows,
-        };
-        let window = Window {
-            col0: col0.saturating_sub(2),
-            row0: row0.saturating_sub(2),
-            ncols: (col0 + ncols + 2).min(40) - col0.saturating_sub(2),
-            nrows: (row0 + nrows + 2).min(30) - row0.saturating_sub(2),
-        };
+        let core = win(col0, row0, ncols, nrows);
+        let window = core.grown(2, 40, 30);
         let (whole, counts) = read_scenario_tile(&scenario, core, window, None).unwrap();
         assert!(
             release_note(&whole).contains(": 122 features (polygons)"),
@@ -491,20 +472,9 @@ fn with_the_index_a_tile_reads_the_release_polygons_of_its_rows_only() {
         let counts = Arc::new(counts.unwrap());
         let (tile, built) = read_scenario_tile(&scenario, core, window, Some(counts)).unwrap();
         assert!(built.is_none(), "the index's counts were used");
-        assert!(!tile.release.cells.is_empty());
-        assert_eq!(whole.release.cells, tile.release.cells);
-        let (a, b) = (whole.tile.as_ref().unwrap(), tile.tile.as_ref().unwrap());
-        assert_eq!(a.region_source_cells, b.region_source_cells);
-        assert_eq!(a.ordinals, b.ordinals);
+        same_sources(&whole, &tile);
         // the polygons meeting the core's rows from the grid's first column (its block)
-        let rows = Envelope::of_window(
-            &g,
-            &Window {
-                col0: 0,
-                ncols: col0 + ncols,
-                ..core
-            },
-        );
+        let rows = Envelope::of_window(&g, &win(0, row0, col0 + ncols, nrows));
         let meeting = (layer.features.iter())
             .filter(|f| Envelope::of_geometry(&f.geometry).is_some_and(|b| b.meets(&rows)))
             .count();
@@ -520,12 +490,7 @@ fn with_the_index_a_tile_reads_the_release_polygons_of_its_rows_only() {
 #[test]
 fn counts_of_another_file_have_a_tile_read_its_release_whole() {
     let (dir, scenario) = squares_release_site();
-    let core = Window {
-        col0: 14,
-        row0: 7,
-        ncols: 11,
-        nrows: 7,
-    };
+    let core = win(14, 7, 11, 7);
     let (expected, counts) = read_scenario_tile(&scenario, core, WINDOW, None).unwrap();
     // the same squares under another name: their counts are of another file
     std::fs::copy(
@@ -539,7 +504,5 @@ fn counts_of_another_file_have_a_tile_read_its_release_whole() {
     let (tile, built) = read_scenario_tile(&other, core, WINDOW, counts.map(Arc::new)).unwrap();
     assert!(built.is_some(), "counted again");
     assert!(release_note(&tile).contains(": 122 features (polygons)"));
-    assert_eq!(expected.release.cells, tile.release.cells);
-    let (a, b) = (expected.tile.as_ref().unwrap(), tile.tile.as_ref().unwrap());
-    assert_eq!(a.ordinals, b.ordinals);
+    same_sources(&expected, &tile);
 }
